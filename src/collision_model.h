@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+// Per-part collision structure and exact pair queries (collision, distance).
+// A model is built once in the part's reference frame; a query takes the two
+// parts' current transforms and works in a relative frame, so no vertex is
+// rewritten per state. Models are immutable after build and safe to query
+// from many threads at once.
+#pragma once
+
+#include "src/scene.h"
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace plancheck {
+
+struct CollisionModelData;  // BVH and triangles; defined in bvh.h
+
+class CollisionModel {
+ public:
+  explicit CollisionModel(const Mesh& mesh);  // builds the BVH (reference frame)
+  ~CollisionModel();
+  CollisionModel(CollisionModel&&) noexcept;
+  CollisionModel& operator=(CollisionModel&&) noexcept;
+
+  std::size_t triangle_count() const;
+  std::size_t memory_bytes() const;     // all collision structures of this part
+  const CollisionModelData& data() const { return *data_; }
+
+ private:
+  std::unique_ptr<CollisionModelData> data_;
+};
+
+struct CollideRequest {
+  std::size_t max_triangle_pairs = 16;  // intersecting triangle pairs to list; 0: stop at the first
+};
+
+struct CollideResult {
+  bool collide = false;                 // true when the sets touch or intersect (exact)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> triangle_pairs;  // (index in a, index in b)
+};
+
+struct DistanceRequest {
+  // Only distances strictly below this are searched for (m); the best distance
+  // found so far across a state's pairs goes here so it prunes the rest.
+  double upper_bound = std::numeric_limits<double>::infinity();
+};
+
+struct DistanceResult {
+  bool found = false;                   // a distance below upper_bound was found
+  double distance = std::numeric_limits<double>::infinity();  // m, world frame; 0 when touching
+  Vec3 point_a = Vec3::Zero();          // closest point on a, world frame (m)
+  Vec3 point_b = Vec3::Zero();          // closest point on b, world frame (m)
+  std::uint32_t triangle_a = 0;
+  std::uint32_t triangle_b = 0;
+};
+
+// Transforms are affine in general (scale actions); distances are Euclidean
+// in the world frame. Intersection is decided exactly on the posed double
+// coordinates: touching counts as colliding.
+void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+             const CollideRequest& request, CollideResult& result);
+
+void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+              const DistanceRequest& request, DistanceResult& result);
+
+}  // namespace plancheck

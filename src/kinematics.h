@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: MIT
+// Forward kinematics: one transform per action chain per state. Meshes are
+// never rewritten; a part's posed vertex is chain_transform * reference vertex.
+#pragma once
+
+#include "src/scene.h"
+
+#include <span>
+#include <vector>
+
+namespace plancheck {
+
+// The transform of one action at its driving parameters (SI units),
+// params pointing at the action's first parameter.
+Affine action_transform(const Action& action, const double* params);
+
+// out[c] = A1 * A2 * ... * Ak for every chain c of scene.chains (root first),
+// given a full parameter vector in scene.parameter_names order.
+void chain_transforms(const Scene& scene, std::span<const double> params, std::vector<Affine>& out);
+
+// The transform that poses part `part` (identity for static parts).
+Affine part_transform(const Scene& scene, int part, std::span<const double> params);
+
+// Index of the first action whose parameter lies outside its limits, or -1.
+int first_limit_violation(const Scene& scene, std::span<const double> params);
+
+// True when the linear part is orthonormal with determinant +1 to rounding.
+bool is_rigid(const Affine& t);
+
+}  // namespace plancheck

@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: MIT
+// Plan CSV -> states (contract: README "Plan file").
+#pragma once
+
+#include "src/scene.h"
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace plancheck {
+
+struct Plan {
+  std::string name;                        // "# name:" or the file stem
+  std::filesystem::path file;
+  std::optional<Vec3> target;              // "# target:" (m, reference frame)
+  double tolerance = 0.0;                  // "# tolerance:" (m); default documented in README
+  std::vector<double> times;               // the optional time column (s); empty without it
+  std::vector<std::vector<double>> states; // full parameter vectors (SI), scene.parameter_names order
+  std::vector<long> lines;                 // file line of each state, for messages
+};
+
+// Throws InputError naming the file, line and column at fault.
+Plan load_plan(const Scene& scene, const std::filesystem::path& csv);
+
+}  // namespace plancheck
