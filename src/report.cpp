@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: MIT
+#include "src/report.h"
+
+#include "src/error.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <ostream>
+#include <string>
+
+namespace plancheck {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// Distances carry 12 significant digits (the contract asks for at least 9).
+std::string num(double v) {
+  if (!std::isfinite(v)) return "";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", v);
+  return buf;
+}
+
+Json num_json(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+Json point_json(const Vec3& p, double unit) { return Json::array({p.x() / unit, p.y() / unit, p.z() / unit}); }
+
+void write_atomically(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) fail(tmp, "cannot write");
+    f << text;
+    if (!f.flush()) fail(tmp, "write failed");
+  }
+  std::filesystem::rename(tmp, path);
+}
+
+std::string pair_text(const Checker& c, int a, int b) {
+  if (a < 0) return "-";
+  return c.part_name(a) + " / " + c.part_name(b);
+}
+
+std::string violation_text(const Checker& checker, const Scene& scene, const PlanResult& r) {
+  if (!r.first_violation) return "none";
+  const Violation& v = *r.first_violation;
+  std::string s = std::string(verdict_name(v.kind)) + " at state " + std::to_string(v.state);
+  if (v.part_a >= 0) s += " (" + pair_text(checker, v.part_a, v.part_b) + ")";
+  if (v.action >= 0) s += " (" + scene.actions[static_cast<std::size_t>(v.action)].name + ")";
+  if (v.kind == Verdict::kTarget && r.target_error)
+    s += " (error " + num(*r.target_error / scene.length_scale) + " " + scene.length_unit + ")";
+  return s;
+}
+
+}  // namespace
+
+void print_plan_lines(const Checker& checker, const Scene& scene, const std::vector<PlanResult>& results,
+                      const RunInfo& info, std::ostream& out) {
+  std::size_t states = 0;
+  std::size_t width = 4;
+  for (const PlanResult& r : results) width = std::max(width, r.plan->name.size());
+  for (const PlanResult& r : results) {
+    states += r.states.size();
+    std::string name = r.plan->name;
+    name.resize(width, ' ');
+    char head[64];
+    std::snprintf(head, sizeof head, "%-9s %5zu states", verdict_name(r.verdict), r.states.size());
+    out << name << "  " << head << "  min " << (r.min_part_a >= 0 ? num(r.min_distance / scene.length_scale) : "-")
+        << " " << scene.length_unit;
+    if (r.min_part_a >= 0)
+      out << " at state " << r.min_distance_state << " (" << pair_text(checker, r.min_part_a, r.min_part_b) << ")";
+    out << "  first violation: " << violation_text(checker, scene, r) << "\n";
+  }
+  char tail[160];
+  std::snprintf(tail, sizeof tail, "%zu plans, %zu states, %.3f s (load %.3f, build %.3f, check %.3f), %d threads\n",
+                results.size(), states, info.load_seconds + info.build_seconds + info.check_seconds,
+                info.load_seconds, info.build_seconds, info.check_seconds, info.threads);
+  out << tail;
+}
+
+void write_reports(const Checker& checker, const Scene& scene, const std::vector<PlanResult>& results,
+                   const RunInfo& info, const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  const double unit = scene.length_scale;
+
+  Json plans = Json::array();
+  for (const PlanResult& r : results) {
+    const Plan& plan = *r.plan;
+
+    std::string csv = "state,collision,min_distance,part_a,part_b,ax,ay,az,bx,by,bz,limits\n";
+    for (std::size_t s = 0; s < r.states.size(); ++s) {
+      const StateResult& st = r.states[s];
+      csv += std::to_string(s) + "," + (st.collision ? "1" : "0") + ",";
+      if (st.part_a >= 0) {
+        csv += num(st.min_distance / unit) + "," + checker.part_name(st.part_a) + "," + checker.part_name(st.part_b);
+        for (const Vec3* p : {&st.point_a, &st.point_b})
+          for (int i = 0; i < 3; ++i) csv += "," + num((*p)[i] / unit);
+      } else {
+        csv += ",,,,,,,,";
+      }
+      csv += ",";
+      if (st.limit_action >= 0) csv += scene.actions[static_cast<std::size_t>(st.limit_action)].name;
+      csv += "\n";
+    }
+    write_atomically(dir / (plan.name + ".csv"), csv);
+
+    Json collisions = Json::array();
+    for (std::size_t s = 0; s < r.states.size() && collisions.size() < kMaxCollisionStatesListed; ++s) {
+      const StateResult& st = r.states[s];
+      if (!st.collision) continue;
+      Json pairs = Json::array();
+      for (const PairContact& c : st.contacts) {
+        Json tris = Json::array();
+        for (std::size_t k = 0; k < c.triangles.size() && k < kMaxTrianglePairsListed; ++k)
+          tris.push_back(Json::array({c.triangles[k].first, c.triangles[k].second}));
+        pairs.push_back({{"parts", {checker.part_name(c.part_a), checker.part_name(c.part_b)}}, {"triangles", tris}});
+      }
+      collisions.push_back({{"state", s}, {"pairs", pairs}});
+    }
+
+    Json first = nullptr;
+    if (r.first_violation) {
+      const Violation& v = *r.first_violation;
+      first = {{"state", v.state}, {"kind", verdict_name(v.kind)}};
+      if (v.part_a >= 0) first["parts"] = {checker.part_name(v.part_a), checker.part_name(v.part_b)};
+      if (v.action >= 0) first["action"] = scene.actions[static_cast<std::size_t>(v.action)].name;
+      if (v.between) first["between"] = true;
+    }
+
+    Json p = {{"name", plan.name},
+              {"file", plan.file.string()},
+              {"states", r.states.size()},
+              {"verdict", verdict_name(r.verdict)},
+              {"first_violation", first}};
+    const bool has_min = r.min_part_a >= 0;
+    p["min_distance"] = has_min ? num_json(r.min_distance / unit) : Json(nullptr);
+    p["min_distance_state"] = has_min ? Json(r.min_distance_state) : Json(nullptr);
+    p["min_distance_parts"] =
+        has_min ? Json::array({checker.part_name(r.min_part_a), checker.part_name(r.min_part_b)}) : Json(nullptr);
+    p["min_distance_points"] =
+        has_min ? Json::array({point_json(r.min_point_a, unit), point_json(r.min_point_b, unit)}) : Json(nullptr);
+    p["collisions"] = collisions;
+    p["target_error"] = r.target_error ? Json(*r.target_error / unit) : Json(nullptr);
+    p["seconds"] = r.seconds;
+    plans.push_back(p);
+  }
+
+  Json report = {{"format", "plancheck-report/1"},
+                 {"scene", info.scene_arg.string()},
+                 {"length_unit", scene.length_unit},
+                 {"safety_margin", scene.safety_margin / unit},
+                 {"threads", info.threads},
+                 {"left_out", {{"static_triangles", info.left_out_static_triangles},
+                               {"reason", "beyond reach of the moving parts"}}},
+                 {"plans", plans},
+                 {"seconds", {{"load", info.load_seconds}, {"build", info.build_seconds}, {"check", info.check_seconds}}}};
+  write_atomically(dir / "report.json", report.dump(2) + "\n");
+}
+
+}  // namespace plancheck

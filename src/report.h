@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+// Verification results -> stdout lines, DIR/report.json, DIR/<plan>.csv
+// (contract: README "Reports"). Lengths are written in the scene's length_unit.
+#pragma once
+
+#include "src/verify.h"
+
+#include <filesystem>
+#include <iosfwd>
+#include <vector>
+
+namespace plancheck {
+
+struct RunInfo {
+  std::filesystem::path scene_arg;  // the scene path as given on the command line
+  int threads = 1;
+  std::size_t left_out_static_triangles = 0;
+  double load_seconds = 0.0;
+  double build_seconds = 0.0;
+  double check_seconds = 0.0;
+};
+
+// One line per plan, then a summary line.
+void print_plan_lines(const Checker& checker, const Scene& scene, const std::vector<PlanResult>& results,
+                      const RunInfo& info, std::ostream& out);
+
+// Writes DIR/<plan>.csv for every plan and DIR/report.json last, each through
+// a temporary file renamed into place, so a report that exists is complete.
+void write_reports(const Checker& checker, const Scene& scene, const std::vector<PlanResult>& results,
+                   const RunInfo& info, const std::filesystem::path& dir);
+
+}  // namespace plancheck

@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+#include "src/terrain.h"
+
+#include "src/error.h"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace plancheck {
+
+namespace {
+
+std::string lower(std::string s) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+bool parse_number(const std::string& token, double& out) {
+  const char* first = token.data();
+  const char* last = token.data() + token.size();
+  if (first != last && *first == '+') ++first;
+  const auto [ptr, ec] = std::from_chars(first, last, out);
+  return ec == std::errc() && ptr == last && std::isfinite(out);
+}
+
+}  // namespace
+
+Dem load_dem(const std::filesystem::path& file, double length_scale) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail(file, "cannot open the DEM file");
+
+  // Header: "key value" lines until the first line that starts with a number.
+  double ncols = -1, nrows = -1, xll = NAN, yll = NAN, cellsize = -1, nodata = NAN;
+  bool x_center = false, y_center = false, has_nodata = false;
+  std::string line;
+  long line_no = 0;
+  std::streampos data_start = 0;
+  long data_line = 0;
+  while (true) {
+    data_start = in.tellg();
+    if (!std::getline(in, line)) break;
+    ++line_no;
+    std::istringstream ls(line);
+    std::string key, value, extra;
+    if (!(ls >> key)) continue;  // blank line
+    if (std::isdigit(static_cast<unsigned char>(key[0])) || key[0] == '-' || key[0] == '+' || key[0] == '.') {
+      data_line = line_no;
+      break;
+    }
+    if (!(ls >> value) || (ls >> extra)) fail(file, "expected 'key value' in the header", line_no);
+    double v;
+    if (!parse_number(value, v)) fail(file, "'" + value + "' is not a finite number", line_no);
+    const std::string k = lower(key);
+    if (k == "ncols") ncols = v;
+    else if (k == "nrows") nrows = v;
+    else if (k == "xllcorner" || k == "xllcenter") { xll = v; x_center = k == "xllcenter"; }
+    else if (k == "yllcorner" || k == "yllcenter") { yll = v; y_center = k == "yllcenter"; }
+    else if (k == "cellsize") cellsize = v;
+    else if (k == "nodata_value") { nodata = v; has_nodata = true; }
+    else fail(file, "unknown header key '" + key + "'", line_no);
+  }
+  auto whole = [](double v) { return v >= 1 && v <= 1e7 && v == std::floor(v); };
+  if (!whole(ncols)) fail(file, "ncols missing or not a positive whole number");
+  if (!whole(nrows)) fail(file, "nrows missing or not a positive whole number");
+  if (std::isnan(xll)) fail(file, "xllcorner or xllcenter missing");
+  if (std::isnan(yll)) fail(file, "yllcorner or yllcenter missing");
+  if (!(cellsize > 0)) fail(file, "cellsize missing or not positive");
+  if (data_line == 0) fail(file, "no data rows after the header");
+  if (ncols * nrows > 1e9) fail(file, "grid too large");
+
+  Dem dem;
+  dem.ncols = static_cast<int>(ncols);
+  dem.nrows = static_cast<int>(nrows);
+  dem.cellsize = cellsize * length_scale;
+  dem.x0 = x_center ? 0.0 : 0.5 * dem.cellsize;
+  dem.y0 = y_center ? 0.0 : 0.5 * dem.cellsize;
+  const std::size_t count = static_cast<std::size_t>(dem.ncols) * static_cast<std::size_t>(dem.nrows);
+  dem.z.assign(count, 0.0);
+  dem.valid.assign(count, 1);
+
+  // Data: nrows lines of ncols values, the first line is the top (largest y) row.
+  in.clear();
+  in.seekg(data_start);
+  line_no = data_line - 1;
+  int file_row = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    std::istringstream ls(line);
+    std::string token;
+    int col = 0;
+    bool any = false;
+    while (ls >> token) {
+      any = true;
+      if (file_row >= dem.nrows) fail(file, "more data rows than nrows = " + std::to_string(dem.nrows), line_no);
+      if (col >= dem.ncols) fail(file, "more than ncols = " + std::to_string(dem.ncols) + " values", line_no);
+      double v;
+      if (!parse_number(token, v)) fail(file, "'" + token + "' is not a finite number", line_no, col + 1);
+      const int row = dem.nrows - 1 - file_row;
+      const std::size_t i = static_cast<std::size_t>(row) * dem.ncols + col;
+      if (has_nodata && v == nodata) dem.valid[i] = 0;
+      else dem.z[i] = v * length_scale;
+      ++col;
+    }
+    if (!any) continue;
+    if (col != dem.ncols)
+      fail(file, "expected " + std::to_string(dem.ncols) + " values, found " + std::to_string(col), line_no);
+    ++file_row;
+  }
+  if (file_row != dem.nrows)
+    fail(file, "expected " + std::to_string(dem.nrows) + " data rows, found " + std::to_string(file_row));
+  return dem;
+}
+
+Mesh dem_mesh(const Dem& dem, const Vec3& origin) {
+  Mesh mesh;
+  mesh.vertices.reserve(dem.z.size());
+  for (int r = 0; r < dem.nrows; ++r)
+    for (int c = 0; c < dem.ncols; ++c)
+      mesh.vertices.push_back(origin + Vec3(dem.x0 + c * dem.cellsize, dem.y0 + r * dem.cellsize, dem.height(c, r)));
+  auto id = [&](int c, int r) { return static_cast<std::uint32_t>(r * dem.ncols + c); };
+  for (int r = 0; r + 1 < dem.nrows; ++r)
+    for (int c = 0; c + 1 < dem.ncols; ++c) {
+      if (!dem.is_valid(c, r) || !dem.is_valid(c + 1, r) || !dem.is_valid(c, r + 1) || !dem.is_valid(c + 1, r + 1))
+        continue;
+      mesh.triangles.push_back({id(c, r), id(c + 1, r), id(c + 1, r + 1)});
+      mesh.triangles.push_back({id(c, r), id(c + 1, r + 1), id(c, r + 1)});
+    }
+  return mesh;
+}
+
+}  // namespace plancheck

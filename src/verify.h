@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: MIT
+// Plan verification: every state of every plan against every checked pair.
+// Collision is exact; the minimum distance is computed in double with the
+// closest points; a distance that falls within kDistanceTolerance of the
+// safety margin cannot be settled in double and is reported as a violation.
+#pragma once
+
+#include "src/collision_model.h"
+#include "src/plan.h"
+#include "src/scene.h"
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace plancheck {
+
+// Relative error of the double distance routines (closest points of two
+// triangles in a relative frame) is a few ulps of the coordinates; a margin
+// comparison closer than this (metres) is treated as a violation.
+inline constexpr double kDistanceTolerance = 1e-9;
+
+// Most colliding states listed per plan, and triangle pairs per part pair
+// (the contract's report limits).
+inline constexpr std::size_t kMaxCollisionStatesListed = 100;
+inline constexpr std::size_t kMaxTrianglePairsListed = 16;
+
+struct PairContact {
+  int part_a = -1;  // index into the checker's part list (Scene::parts, then terrain)
+  int part_b = -1;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> triangles;
+};
+
+// What one state shows.
+struct StateResult {
+  bool collision = false;
+  std::vector<PairContact> contacts;  // colliding pairs (empty unless collision)
+  double min_distance = std::numeric_limits<double>::infinity();  // m; 0 when colliding
+  int part_a = -1;                    // pair at the minimum distance (-1: no checked pair)
+  int part_b = -1;
+  Vec3 point_a = Vec3::Zero();        // closest points, reference frame (m)
+  Vec3 point_b = Vec3::Zero();
+  int limit_action = -1;              // first action outside its limits, or -1
+};
+
+enum class Verdict { kSafe, kCollision, kClearance, kLimits, kTarget };
+const char* verdict_name(Verdict v);
+
+struct Violation {
+  std::size_t state = 0;
+  Verdict kind = Verdict::kSafe;
+  int part_a = -1;  // for collision/clearance
+  int part_b = -1;
+  int action = -1;  // for limits
+  bool between = false;
+};
+
+struct PlanResult {
+  const Plan* plan = nullptr;
+  std::vector<StateResult> states;
+  Verdict verdict = Verdict::kSafe;
+  std::optional<Violation> first_violation;
+  double min_distance = std::numeric_limits<double>::infinity();  // m
+  std::size_t min_distance_state = 0;
+  int min_part_a = -1;
+  int min_part_b = -1;
+  Vec3 min_point_a = Vec3::Zero();
+  Vec3 min_point_b = Vec3::Zero();
+  std::optional<double> target_error;  // m
+  double seconds = 0.0;                // summed over the states' check time
+};
+
+struct VerifyOptions {
+  int threads = 0;  // 0: all hardware threads
+};
+
+// Collision structures of a scene, built once; immutable and shared by threads.
+class Checker {
+ public:
+  explicit Checker(const Scene& scene, int threads = 0);
+
+  // Names of the checked parts: Scene::parts, then "terrain" when present.
+  const std::string& part_name(int index) const { return names_[static_cast<std::size_t>(index)]; }
+  std::size_t part_count() const { return names_.size(); }
+  std::size_t triangle_count() const;
+  std::size_t memory_bytes() const;
+
+  // Checks one configuration (a full parameter vector, SI).
+  void check_state(const std::vector<double>& params, StateResult& out) const;
+
+  // The pairs in contact (touching or intersecting) at the reference pose.
+  std::vector<PairContact> reference_contacts() const;
+
+  // The point a plan's target refers to, posed: the scoop's bottom point, or
+  // without a scoop the origin of the last action's node.
+  Vec3 target_point(const std::vector<double>& params) const;
+
+ private:
+  struct PairRef {
+    int a, b;
+  };
+  const Scene& scene_;
+  std::vector<std::string> names_;
+  std::vector<CollisionModel> models_;  // one per checked part (parts, then terrain)
+  std::vector<int> chain_of_;           // chain id per checked part, -1 when static
+  std::vector<std::pair<Vec3, Vec3>> local_boxes_;  // (lo, hi) per part, its own frame
+  std::vector<PairRef> pairs_;
+};
+
+std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
+                                     const std::vector<Plan>& plans, const VerifyOptions& options);
+
+}  // namespace plancheck
