@@ -87,6 +87,13 @@ class Checker {
   std::size_t triangle_count() const;
   std::size_t memory_bytes() const;
 
+  // The checked pairs as indices into the part list (a < b; terrain last).
+  std::vector<std::pair<int, int>> pairs() const {
+    std::vector<std::pair<int, int>> out;
+    for (const PairRef& p : pairs_) out.emplace_back(p.a, p.b);
+    return out;
+  }
+
   // Checks one configuration (a full parameter vector, SI).
   void check_state(const std::vector<double>& params, StateResult& out) const;
 
