@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+#include "src/commands.h"
+
+#include "src/parallel.h"
+#include "src/plan.h"
+#include "src/report.h"
+#include "src/scene_loader.h"
+#include "src/verify.h"
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+
+namespace plancheck {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
+  // An old report in DIR must not pass for this run's if this run fails.
+  std::error_code ec;
+  std::filesystem::remove(args.out / "report.json", ec);
+
+  RunInfo info;
+  info.scene_arg = args.scene;
+  info.threads = args.threads > 0 ? args.threads : hardware_threads();
+
+  auto t0 = std::chrono::steady_clock::now();
+  err << "plancheck: loading " << args.scene.string() << "\n";
+  const Scene scene = load_scene(args.scene);
+  // Every plan is read before anything is checked: a bad plan fails the run
+  // before any report is written.
+  std::vector<Plan> plans;
+  plans.reserve(args.plans.size());
+  for (const auto& p : args.plans) plans.push_back(load_plan(scene, p));
+  info.load_seconds = seconds_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  err << "plancheck: building collision structures\n";
+  const Checker checker(scene, info.threads);
+  info.build_seconds = seconds_since(t0);
+
+  std::size_t states = 0;
+  for (const Plan& p : plans) states += p.states.size();
+  err << "plancheck: checking " << states << " states of " << plans.size() << " plans on " << info.threads
+      << " threads\n";
+  t0 = std::chrono::steady_clock::now();
+  const auto results = verify_plans(checker, scene, plans, VerifyOptions{info.threads});
+  info.check_seconds = seconds_since(t0);
+
+  write_reports(checker, scene, results, info, args.out);
+  print_plan_lines(checker, scene, results, info, out);
+  if (args.json) {
+    std::ifstream f(args.out / "report.json");
+    out << f.rdbuf();
+  }
+  for (const PlanResult& r : results)
+    if (r.verdict != Verdict::kSafe) return 1;
+  return 0;
+}
+
+}  // namespace plancheck

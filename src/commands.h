@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: MIT
+// The bodies of the command-line subcommands; main.cpp only parses words.
+#pragma once
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace plancheck {
+
+struct VerifyArgs {
+  std::filesystem::path scene;
+  std::vector<std::filesystem::path> plans;
+  std::filesystem::path out = "plancheck-out";
+  int threads = 0;           // 0: all hardware threads
+  bool json = false;         // also print report.json to stdout
+};
+
+// Exit status per the contract: 0 all plans safe, 1 any violation. Input
+// errors are thrown as InputError (main turns them into status 2).
+int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err);
+
+}  // namespace plancheck
