@@ -54,10 +54,12 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
   info.check_seconds = seconds_since(t0);
 
   write_reports(checker, scene, results, info, args.out);
-  print_plan_lines(checker, scene, results, info, out);
   if (args.json) {
+    // Machine-readable stdout: the report itself, nothing else.
     std::ifstream f(args.out / "report.json");
     out << f.rdbuf();
+  } else {
+    print_plan_lines(checker, scene, results, info, out);
   }
   for (const PlanResult& r : results)
     if (r.verdict != Verdict::kSafe) return 1;

@@ -14,7 +14,7 @@ struct VerifyArgs {
   std::vector<std::filesystem::path> plans;
   std::filesystem::path out = "plancheck-out";
   int threads = 0;           // 0: all hardware threads
-  bool json = false;         // also print report.json to stdout
+  bool json = false;         // stdout: report.json instead of the plan lines
 };
 
 // Exit status per the contract: 0 all plans safe, 1 any violation. Input
