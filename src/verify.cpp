@@ -84,7 +84,13 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene) {
     local_boxes_.emplace_back(b.lo, b.hi);
   }
 
-  for (const CheckedPair& p : scene.checked_pairs) pairs_.push_back({p.a, p.b});
+  // The moving part first in each pair, as reports name them (arm part, then what it meets).
+  for (const CheckedPair& p : scene.checked_pairs) {
+    if (chain_of_[static_cast<std::size_t>(p.a)] < 0 && chain_of_[static_cast<std::size_t>(p.b)] >= 0)
+      pairs_.push_back({p.b, p.a});
+    else
+      pairs_.push_back({p.a, p.b});
+  }
   if (terrain) {
     const int t = static_cast<int>(names_.size()) - 1;
     for (std::size_t i = 0; i < scene.parts.size(); ++i) {

@@ -87,7 +87,7 @@ class Checker {
   std::size_t triangle_count() const;
   std::size_t memory_bytes() const;
 
-  // The checked pairs as indices into the part list (a < b; terrain last).
+  // The checked pairs as indices into the part list (the moving part first).
   std::vector<std::pair<int, int>> pairs() const {
     std::vector<std::pair<int, int>> out;
     for (const PairRef& p : pairs_) out.emplace_back(p.a, p.b);
