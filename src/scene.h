@@ -128,6 +128,9 @@ struct Scene {
 
   std::vector<CheckedPair> checked_pairs;
   double safety_margin = 0.0;        // m
+  // Parts that allowed_collisions lets touch the terrain pseudo-part (sorted);
+  // every other part is checked against the terrain when terrain->collide.
+  std::vector<int> terrain_allowed_parts;
 
   std::optional<TerrainConfig> terrain;
   std::optional<ScoopConfig> scoop;
