@@ -26,6 +26,11 @@
 //   stl/ply: a root (or one child) with an empty name. A part whose node has
 //   no name is named after the model file's stem ("Wuson" for Wuson.ply), with
 //   "_2", "_3", ... when several are unnamed.
+// Coordinates: the reference frame is the file's own. assimp turns 3ds files
+// from z up to y up with an extra root rotation, which is taken off again, and
+// is told to leave Collada's up_axis alone. A 3ds node's transform is its
+// keyframer pose at frame 0 (assimp moves the mesh back into the node's local
+// frame with the inverse object matrix and the pivot).
 // Non-triangle meshes (points, lines) are split off by aiProcess_SortByPType
 // and skipped with a warning. aiProcess_ValidateDataStructure turns broken
 // files (indices out of range, meshes without faces) into load errors instead
@@ -119,6 +124,37 @@ std::vector<std::string> read_3ds_object_names(const std::filesystem::path& file
   return names;
 }
 
+// assimp's OFF reader believes the header's counts and spends a minute and
+// gigabytes on a header like "353535235358 6 0" (assimp-testmodels
+// invalid/OutOfMemory.off). A count the file cannot hold is refused up front:
+// a vertex line takes at least 6 bytes ("0 0 0\n"), a face line at least 8.
+void check_off_counts(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".off") return;
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec) return;
+  std::ifstream in(file);
+  std::string word;
+  std::vector<std::string> words;
+  while (words.size() < 3 && in >> word) {
+    if (word[0] == '#') {
+      std::getline(in, word);
+      continue;
+    }
+    if (words.empty() && word.size() >= 3 && word.compare(word.size() - 3, 3, "OFF") == 0) continue;
+    words.push_back(word);
+  }
+  if (words.size() < 2) return;  // let assimp say what is wrong
+  char* end = nullptr;
+  const unsigned long long vertices = std::strtoull(words[0].c_str(), &end, 10);
+  const unsigned long long faces = std::strtoull(words[1].c_str(), &end, 10);
+  if (vertices > size / 6 + 1 || faces > size / 8 + 1)
+    fail(file, "cannot read model: the OFF header claims " + words[0] + " vertices and " + words[1] +
+                   " faces, more than the file can hold");
+}
+
 bool is_generated_child_name(const std::string& child, const std::string& parent) {
   if (child.empty()) return true;
   if (parent.empty() || child.size() <= parent.size() + 1) return false;
@@ -142,6 +178,14 @@ class Builder {
     const aiNode* root = ai_.mRootNode;
     int root_index = add_node(root->mName.C_Str(), -1);
     Mat4 root_global = to_eigen(root->mTransformation);
+    if (is_3ds(file_)) {
+      // assimp's 3ds importer prepends a z-up -> y-up turn (x, y, z) -> (x, z, -y)
+      // to the root; the reference frame is the file's own (z up, as the
+      // terrain and every pivot in the scene are), so take it off again.
+      Mat4 y_up_to_z_up = Mat4::Identity();
+      y_up_to_z_up.topLeftCorner<3, 3>() << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+      root_global = y_up_to_z_up * root_global;
+    }
     attach_meshes(root, root_global, root_index);
     if (is_3ds(file_) && std::strcmp(root->mName.C_Str(), "<3DSDummyRoot>") == 0) {
       build_flat_3ds(root, root_global, root_index);
@@ -297,7 +341,10 @@ void load_model(const std::filesystem::path& model, double length_scale, Scene& 
     if (!probe) fail(model, "cannot open model file");
     if (probe.peek() == std::ifstream::traits_type::eof()) fail(model, "cannot read model: the file is empty");
   }
+  check_off_counts(model);
   Assimp::Importer importer;
+  // The reference frame is the file's own coordinates: no up-axis conversion.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   // FBX pivots would otherwise appear as extra "$AssimpFbx$" nodes in the part tree.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
   const aiScene* ai = nullptr;

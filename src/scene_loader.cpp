@@ -127,6 +127,18 @@ Json parse_json(const std::filesystem::path& file) {
     std::size_t colon = reason.find(": ");
     if (colon != std::string::npos) reason = reason.substr(colon + 2);
     fail(file, "invalid JSON: " + reason, line, column);
+  } catch (const Json::out_of_range& e) {
+    // A number beyond double range ("1e999") stops the parser without a
+    // position; its text, quoted in the message, is found in the file instead.
+    const std::string what = e.what();
+    const std::size_t open = what.find('\''), close = what.rfind('\'');
+    long line = 0, column = 0;
+    if (open != std::string::npos && close > open) {
+      const std::size_t at = text.find(what.substr(open + 1, close - open - 1));
+      if (at != std::string::npos) line_column(text, at + 1, line, column);
+    }
+    fail(file, "number out of range: " + (open == std::string::npos ? what : what.substr(open)) +
+                   " is not a finite number", line, column);
   }
   if (!duplicate.empty()) fail(file, duplicate + ": key given twice");
   return j;
