@@ -28,8 +28,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int status = app.exit(e);  // prints help or the usage error
-    return status == 0 ? 0 : kExitBadInput;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help and the like
+    std::cerr << "plancheck: " << e.what() << " (run plancheck --help)\n";
+    return kExitBadInput;
   }
 
   try {

@@ -7,7 +7,7 @@
 // - After the header, blank (whitespace-only) lines are skipped, so a
 //   trailing newline or an empty last line is harmless; any other line is a
 //   state and must parse.
-// - A target without a "# tolerance:" gets kDefaultTargetTolerance.
+// - A target without a "# tolerance:" gets kDefaultTargetTolerance (plan.h).
 // - Scale factors must be positive (the scene contract makes factor <= 0 an error).
 #include "src/plan.h"
 
@@ -24,9 +24,6 @@
 
 namespace plancheck {
 namespace {
-
-// In the scene's length_unit: 1 cm when the scene is in metres.
-constexpr double kDefaultTargetTolerance = 0.01;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);

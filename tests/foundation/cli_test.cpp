@@ -83,10 +83,15 @@ TEST_F(CliTest, MissingFilesAndUsageErrorsExitTwo) {
   EXPECT_EQ(model.status, 2);
   EXPECT_NE(model.err.find("plancheck: "), std::string::npos);
   EXPECT_NE(model.err.find("garbage.obj"), std::string::npos) << model.err;
-  EXPECT_EQ(run_plancheck(dir_, "").status, 2);
-  EXPECT_EQ(run_plancheck(dir_, "scene").status, 2);
-  EXPECT_EQ(run_plancheck(dir_, "frobnicate x").status, 2);
-  EXPECT_EQ(run_plancheck(dir_, "--help").status, 0);
+  for (const char* args : {"", "scene", "frobnicate x", "scene a.json b.json"}) {
+    const CliRun usage = run_plancheck(dir_, args);
+    EXPECT_EQ(usage.status, 2) << args;
+    EXPECT_EQ(usage.err.rfind("plancheck: ", 0), 0u) << usage.err;
+    EXPECT_EQ(std::count(usage.err.begin(), usage.err.end(), '\n'), 1) << usage.err;
+  }
+  const CliRun help = run_plancheck(dir_, "--help");
+  EXPECT_EQ(help.status, 0);
+  EXPECT_NE(help.out.find("scene"), std::string::npos);
 }
 
 }  // namespace
