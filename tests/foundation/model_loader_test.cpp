@@ -15,6 +15,7 @@
 #include <iterator>
 #include <map>
 #include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -216,6 +217,107 @@ TEST(ModelLoader3ds, EveryTestModelHasOnePartPerObject) {
       EXPECT_EQ(s.parts[p].mesh.triangles.size(), o.faces.size()) << name << ": " << o.name;
     }
   }
+}
+
+// A minimal 3ds writer (no keyframer): objects with faces split between two
+// materials, which assimp turns into one mesh per material.
+class TdsWriter {
+ public:
+  void material(const std::string& name) { materials_.push_back(name); }
+  void object(const std::string& name, const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& faces,
+              const std::vector<int>& face_material) {
+    objects_.push_back({name, points, faces, face_material});
+  }
+  void write(const std::filesystem::path& file) const {
+    std::string editor;
+    for (const std::string& m : materials_) editor += chunk(0xAFFF, chunk(0xA000, m + '\0'));
+    for (const Obj& o : objects_) {
+      std::string points = u16(o.points.size());
+      for (const Vec3& p : o.points) points += f32(p.x()) + f32(p.y()) + f32(p.z());
+      std::string faces = u16(o.faces.size());
+      for (const auto& f : o.faces) faces += u16(f[0]) + u16(f[1]) + u16(f[2]) + u16(0);
+      for (std::size_t m = 0; m < materials_.size(); ++m) {
+        std::string list;
+        std::size_t n = 0;
+        for (std::size_t f = 0; f < o.faces.size(); ++f)
+          if (o.face_material[f] == static_cast<int>(m)) {
+            list += u16(f);
+            ++n;
+          }
+        if (n > 0) faces += chunk(0x4130, materials_[m] + '\0' + u16(n) + list);
+      }
+      editor += chunk(0x4000, o.name + '\0' + chunk(0x4100, chunk(0x4110, points) + chunk(0x4120, faces)));
+    }
+    std::ofstream(file, std::ios::binary) << chunk(0x4D4D, chunk(0x0002, u32(3)) + chunk(0x3D3D, editor));
+  }
+
+ private:
+  struct Obj {
+    std::string name;
+    std::vector<Vec3> points;
+    std::vector<std::array<int, 3>> faces;
+    std::vector<int> face_material;
+  };
+  static std::string u16(std::size_t v) { return {static_cast<char>(v & 255), static_cast<char>((v >> 8) & 255)}; }
+  static std::string u32(std::size_t v) { return u16(v & 0xFFFF) + u16(v >> 16); }
+  static std::string f32(double d) {
+    const float f = static_cast<float>(d);
+    std::string s(4, '\0');
+    std::memcpy(s.data(), &f, 4);
+    return s;
+  }
+  static std::string chunk(unsigned id, const std::string& body) { return u16(id) + u32(body.size() + 6) + body; }
+  std::vector<std::string> materials_;
+  std::vector<Obj> objects_;
+};
+
+TEST(ModelLoader3ds, FlatObjectSplitByMaterialIsOnePart) {
+  testing::TempDir dir;
+  TdsWriter w;
+  w.material("Red");
+  w.material("Grey");
+  const std::vector<Vec3> quad = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0, 0, 3}};
+  // Scoop: faces 0 and 2 grey, face 1 red -> two meshes (red, grey) -> one part.
+  w.object("Scoop", quad, {{0, 1, 2}, {0, 2, 3}, {0, 1, 4}}, {1, 0, 1});
+  w.object("Arm", {{5, 0, 0}, {6, 0, 0}, {5, 0, 2}}, {{0, 1, 2}}, {0});
+  const auto file = dir / "split.3ds";
+  w.write(file);
+  Scene s;
+  load_model(file, 0.01, s);
+  ASSERT_EQ(s.parts.size(), 2u);
+  const int scoop = s.find_part("Scoop");
+  const int arm = s.find_part("Arm");
+  ASSERT_GE(scoop, 0);
+  ASSERT_GE(arm, 0);
+  EXPECT_EQ(s.parts[scoop].mesh.triangles.size(), 3u);
+  EXPECT_EQ(s.parts[arm].mesh.triangles.size(), 1u);
+  EXPECT_EQ(s.nodes[s.parts[scoop].node].path, "/<3DSDummyRoot>/Scoop");
+  // z stays up (the file's frame), times the length scale: the Scoop's top
+  // vertex (0, 0, 3) is at z = 0.03 m, none of it is turned into y.
+  double top = 0, max_y = 0;
+  for (const Vec3& v : s.parts[scoop].mesh.vertices) {
+    top = std::max(top, v.z());
+    max_y = std::max(max_y, v.y());
+  }
+  EXPECT_NEAR(top, 0.03, 1e-9);
+  EXPECT_NEAR(max_y, 0.01, 1e-9);
+  // Every triangle of the part is one of the file's faces (as a set of points).
+  std::multiset<std::vector<double>> expected, loaded;
+  auto key = [](Vec3 a, Vec3 b, Vec3 c) {
+    std::vector<Vec3> v = {a, b, c};
+    std::sort(v.begin(), v.end(), [](const Vec3& p, const Vec3& q) {
+      return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+    });
+    std::vector<double> k;
+    for (const Vec3& p : v)
+      for (int i = 0; i < 3; ++i) k.push_back(std::round(p[i] * 1e6) / 1e6);
+    return k;
+  };
+  for (const auto& f : std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 2, 3}, {0, 1, 4}})
+    expected.insert(key(quad[f[0]] * 0.01, quad[f[1]] * 0.01, quad[f[2]] * 0.01));
+  const Mesh& m = s.parts[scoop].mesh;
+  for (const Tri& t : m.triangles) loaded.insert(key(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]));
+  EXPECT_EQ(loaded, expected);
 }
 
 TEST(ModelLoader, LengthScaleMultipliesVertices) {
