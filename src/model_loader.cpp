@@ -26,11 +26,16 @@
 //   stl/ply: a root (or one child) with an empty name. A part whose node has
 //   no name is named after the model file's stem ("Wuson" for Wuson.ply), with
 //   "_2", "_3", ... when several are unnamed.
-// Coordinates: the reference frame is the file's own. assimp turns 3ds files
-// from z up to y up with an extra root rotation, which is taken off again, and
-// is told to leave Collada's up_axis alone. A 3ds node's transform is its
-// keyframer pose at frame 0 (assimp moves the mesh back into the node's local
-// frame with the inverse object matrix and the pivot).
+// Coordinates: the reference frame is the file's own. assimp is told to leave
+// Collada's up_axis alone; its extra z-up -> y-up root turn for 3ds is taken
+// off again. For 3ds the drawn pose is the editor section (0x4110 points, in
+// the file's frame), which is not always the keyframer's frame 0 as assimp
+// composes it: an animated file (RotatingCube.3DS), a mesh under a camera
+// (assimp gives a camera node only its roll), test1.3ds's rotated boxes. So a
+// 3ds part's vertices are the file's own points, matched to assimp's meshes
+// face by face (Builder::drawn_vertices); the keyframer gives the hierarchy
+// only. A second instance of an object ("Box01_inst_2") exists only in the
+// keyframer and keeps assimp's keyframer pose.
 // Non-triangle meshes (points, lines) are split off by aiProcess_SortByPType
 // and skipped with a warning. aiProcess_ValidateDataStructure turns broken
 // files (indices out of range, meshes without faces) into load errors instead
@@ -52,6 +57,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -78,51 +84,104 @@ bool is_3ds(const std::filesystem::path& file) {
   return ext == ".3ds";
 }
 
-// Names of the trimesh objects of a 3ds file in file order: assimp's mesh
-// names in a keyframer-less file are indices into this list.
-std::vector<std::string> read_3ds_object_names(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::vector<unsigned char> b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::vector<std::string> names;
-  auto u16 = [&](std::size_t at) { return static_cast<unsigned>(b[at] | (b[at + 1] << 8)); };
-  auto u32 = [&](std::size_t at) {
-    return static_cast<std::size_t>(b[at]) | (static_cast<std::size_t>(b[at + 1]) << 8) |
-           (static_cast<std::size_t>(b[at + 2]) << 16) | (static_cast<std::size_t>(b[at + 3]) << 24);
-  };
-  // Iterative walk of the chunks that can contain objects: main 0x4D4D,
-  // editor 0x3D3D, object 0x4000 (name first, then sub-chunks).
-  struct Range { std::size_t begin, end; };
-  std::vector<Range> todo{{0, b.size()}};
-  while (!todo.empty()) {
-    Range r = todo.back();
-    todo.pop_back();
-    std::vector<Range> inner;
-    for (std::size_t at = r.begin; at + 6 <= r.end;) {
-      unsigned id = u16(at);
-      std::size_t len = u32(at + 2);
-      if (len < 6 || len > r.end - at) break;  // damaged: assimp has already judged the file
-      if (id == 0x4D4D || id == 0x3D3D) {
-        inner.push_back({at + 6, at + len});
-      } else if (id == 0x4000) {
-        std::size_t name_end = at + 6;
-        while (name_end < at + len && b[name_end] != 0) ++name_end;
-        std::string name(b.begin() + static_cast<long>(at + 6), b.begin() + static_cast<long>(name_end));
-        bool trimesh = false;
-        for (std::size_t sub = name_end + 1; sub + 6 <= at + len;) {
-          std::size_t sub_len = u32(sub + 2);
-          if (u16(sub) == 0x4100) trimesh = true;
-          if (sub_len < 6) break;
-          sub += sub_len;
-        }
-        if (trimesh) names.push_back(name);
-      }
-      at += len;
-    }
-    // Keep file order: process the inner ranges front to back.
-    for (auto it = inner.rbegin(); it != inner.rend(); ++it) todo.push_back(*it);
+// One trimesh object of a 3ds file as drawn (editor section): its points in
+// the file's frame, its faces, and each face's material name ("" if none).
+struct TdsObject {
+  std::string name;
+  std::vector<Vec3> points;
+  std::vector<std::array<unsigned, 3>> faces;
+  std::vector<std::string> face_material;
+};
+
+// The trimesh objects (0x4000 chunks holding 0x4100) in file order: assimp's
+// 3ds mesh names are indices into this list. Reading stops quietly at damage:
+// assimp has already judged the file, and a mismatch only means falling back
+// to assimp's own pose (see Builder::editor_vertices).
+class TdsReader {
+ public:
+  explicit TdsReader(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    b_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
-  return names;
-}
+
+  std::vector<TdsObject> objects() {
+    walk(0, b_.size(), nullptr);
+    return std::move(objects_);
+  }
+
+ private:
+  bool has(std::size_t at, std::size_t n, std::size_t end) const { return at <= end && n <= end - at; }
+  unsigned u16(std::size_t at) const { return static_cast<unsigned>(b_[at] | (b_[at + 1] << 8)); }
+  std::size_t u32(std::size_t at) const { return u16(at) | (static_cast<std::size_t>(u16(at + 2)) << 16); }
+  double f32(std::size_t at) const {
+    const auto bits = static_cast<std::uint32_t>(u32(at));
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+  }
+  // A zero-terminated string at `at`; `after` is set past the terminator.
+  std::string cstring(std::size_t at, std::size_t end, std::size_t& after) const {
+    std::size_t stop = at;
+    while (stop < end && b_[stop] != 0) ++stop;
+    after = std::min(stop + 1, end);
+    return std::string(b_.begin() + static_cast<long>(at), b_.begin() + static_cast<long>(stop));
+  }
+
+  void walk(std::size_t at, std::size_t end, TdsObject* object) {
+    while (has(at, 6, end)) {
+      const unsigned id = u16(at);
+      const std::size_t len = u32(at + 2);
+      if (len < 6 || !has(at, len, end)) return;
+      const std::size_t body = at + 6, stop = at + len;
+      switch (id) {
+        case 0x4D4D: case 0x3D3D: walk(body, stop, nullptr); break;
+        case 0x4000: {
+          std::size_t after;
+          TdsObject o;
+          o.name = cstring(body, stop, after);
+          bool trimesh = false;
+          for (std::size_t sub = after; has(sub, 6, stop) && u32(sub + 2) >= 6; sub += u32(sub + 2))
+            trimesh = trimesh || u16(sub) == 0x4100;
+          if (!trimesh) break;
+          walk(after, stop, &o);
+          objects_.push_back(std::move(o));
+          break;
+        }
+        case 0x4100: if (object) walk(body, stop, object); break;
+        case 0x4110:
+          if (object && has(body, 2, stop) && has(body + 2, 12 * std::size_t{u16(body)}, stop))
+            for (unsigned i = 0, n = u16(body); i < n; ++i)
+              object->points.emplace_back(f32(body + 2 + 12 * i), f32(body + 6 + 12 * i), f32(body + 10 + 12 * i));
+          break;
+        case 0x4120:
+          if (object && has(body, 2, stop) && has(body + 2, 8 * std::size_t{u16(body)}, stop)) {
+            const unsigned n = u16(body);
+            for (unsigned i = 0; i < n; ++i)
+              object->faces.push_back({u16(body + 2 + 8 * i), u16(body + 4 + 8 * i), u16(body + 6 + 8 * i)});
+            object->face_material.assign(n, std::string());
+            walk(body + 2 + 8 * std::size_t{n}, stop, object);  // material groups follow the face list
+          }
+          break;
+        case 0x4130:
+          if (object) {
+            std::size_t after;
+            const std::string material = cstring(body, stop, after);
+            if (has(after, 2, stop) && has(after + 2, 2 * std::size_t{u16(after)}, stop))
+              for (unsigned i = 0, n = u16(after); i < n; ++i) {
+                const unsigned face = u16(after + 2 + 2 * i);
+                if (face < object->face_material.size()) object->face_material[face] = material;
+              }
+          }
+          break;
+        default: break;
+      }
+      at = stop;
+    }
+  }
+
+  std::vector<unsigned char> b_;
+  std::vector<TdsObject> objects_;
+};
 
 // assimp's OFF reader believes the header's counts and spends a minute and
 // gigabytes on a header like "353535235358 6 0" (assimp-testmodels
@@ -165,8 +224,14 @@ bool is_generated_child_name(const std::string& child, const std::string& parent
 
 // One output node while the tree is built: meshes with the global transform
 // of the assimp node that carried them.
+struct PendingMesh {
+  const aiMesh* mesh;
+  Mat4 global;             // node transforms from the root down
+  std::vector<Vec3> drawn; // 3ds: the file's own points per mesh vertex; empty: use global
+};
+
 struct Pending {
-  std::vector<std::pair<const aiMesh*, Mat4>> meshes;
+  std::vector<PendingMesh> meshes;
 };
 
 class Builder {
@@ -175,6 +240,7 @@ class Builder {
       : ai_(ai), file_(file), scale_(scale), scene_(scene) {}
 
   void build() {
+    if (is_3ds(file_)) tds_objects_ = TdsReader(file_).objects();
     const aiNode* root = ai_.mRootNode;
     int root_index = add_node(root->mName.C_Str(), -1);
     Mat4 root_global = to_eigen(root->mTransformation);
@@ -207,11 +273,78 @@ class Builder {
     return index;
   }
 
-  void attach_meshes(const aiNode* node, const Mat4& global, int target) {
+  void attach_meshes(const aiNode* node, const Mat4& global, int target, bool flat_3ds = false) {
     for (unsigned i = 0; i < node->mNumMeshes; ++i) {
       unsigned m = node->mMeshes[i];
       used_meshes_.insert(m);
-      pending_[target].meshes.emplace_back(ai_.mMeshes[m], global);
+      PendingMesh pm{ai_.mMeshes[m], global, {}};
+      // A 3ds object is taken as drawn (see the top of the file); a second
+      // instance ("Name_inst_2") exists only in the keyframer, so it keeps
+      // assimp's keyframer pose.
+      const int object = tds_object_of(*pm.mesh);
+      if (object >= 0 && (flat_3ds || tds_objects_[object].name == node->mName.C_Str()))
+        drawn_vertices(*pm.mesh, tds_objects_[object], pm.drawn);
+      pending_[target].meshes.push_back(std::move(pm));
+    }
+  }
+
+  // assimp names each 3ds mesh with the decimal index of its object.
+  int tds_object_of(const aiMesh& mesh) const {
+    const char* name = mesh.mName.C_Str();
+    char* end = nullptr;
+    const unsigned long object = std::strtoul(name, &end, 10);
+    if (*name == '\0' || *end != '\0' || object >= tds_objects_.size()) return -1;
+    return static_cast<int>(object);
+  }
+
+  // assimp splits a 3ds object by material (faces of one material in file
+  // order, three fresh vertices per face) and moves it into its node's frame.
+  // Matching the faces back gives the file's own points for each mesh vertex.
+  // The match is accepted only when one affine map takes the file's points to
+  // assimp's vertices (which is what assimp did); otherwise `out` stays empty
+  // and the keyframer pose is used, with a warning.
+  void drawn_vertices(const aiMesh& mesh, const TdsObject& object, std::vector<Vec3>& out) {
+    out.clear();
+    aiString material_name;
+    if (mesh.mMaterialIndex < ai_.mNumMaterials)
+      ai_.mMaterials[mesh.mMaterialIndex]->Get(AI_MATKEY_NAME, material_name);
+    const std::string material = material_name.C_Str();
+    std::vector<unsigned> faces, with_unassigned;
+    for (unsigned f = 0; f < object.faces.size(); ++f) {
+      if (object.face_material[f] == material) faces.push_back(f);
+      if (object.face_material[f] == material || object.face_material[f].empty()) with_unassigned.push_back(f);
+    }
+    if (faces.size() != mesh.mNumFaces) faces = with_unassigned;  // assimp's default material
+    bool ok = faces.size() == mesh.mNumFaces && mesh.mNumVertices > 0;
+    std::vector<Vec3> drawn(mesh.mNumVertices, Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
+    for (unsigned q = 0; ok && q < mesh.mNumFaces; ++q) {
+      const aiFace& face = mesh.mFaces[q];
+      ok = face.mNumIndices == 3;
+      for (unsigned a = 0; ok && a < 3; ++a) {
+        const unsigned point = object.faces[faces[q]][a];
+        ok = face.mIndices[a] < mesh.mNumVertices && point < object.points.size();
+        if (ok) drawn[face.mIndices[a]] = object.points[point];
+      }
+    }
+    if (ok) {
+      // Least squares: assimp_vertex = A * [drawn; 1].
+      Eigen::MatrixXd x(mesh.mNumVertices, 4), y(mesh.mNumVertices, 3);
+      for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+        ok = ok && drawn[v].allFinite();
+        x.row(v) << drawn[v].transpose(), 1.0;
+        y.row(v) << mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z;
+      }
+      if (ok) {
+        const Eigen::MatrixXd a = x.colPivHouseholderQr().solve(y);
+        const double size = std::max(1.0, (y.colwise().maxCoeff() - y.colwise().minCoeff()).norm());
+        ok = a.allFinite() && ((x * a - y).rowwise().norm().maxCoeff() <= 1e-4 * size);
+      }
+    }
+    if (ok) {
+      out = std::move(drawn);
+    } else {
+      scene_.warnings.push_back(located(file_, "3ds object '" + object.name +
+                                                   "': faces not matched to assimp's mesh; keyframer pose used"));
     }
   }
 
@@ -229,18 +362,14 @@ class Builder {
   }
 
   void build_flat_3ds(const aiNode* root, const Mat4& root_global, int root_index) {
-    std::vector<std::string> objects = read_3ds_object_names(file_);
     std::map<std::string, int> by_object;
     for (unsigned i = 0; i < root->mNumChildren; ++i) {
       const aiNode* child = root->mChildren[i];
       Mat4 global = root_global * to_eigen(child->mTransformation);
       std::string name = child->mName.C_Str();
       if (child->mNumMeshes > 0) {
-        // The mesh name is the object's index (see the comment at the top).
-        const std::string& mesh_name = ai_.mMeshes[child->mMeshes[0]]->mName.C_Str();
-        char* end = nullptr;
-        unsigned long object = std::strtoul(mesh_name.c_str(), &end, 10);
-        if (!mesh_name.empty() && *end == '\0' && object < objects.size()) name = objects[object];
+        const int object = tds_object_of(*ai_.mMeshes[child->mMeshes[0]]);
+        if (object >= 0) name = tds_objects_[object].name;
       }
       auto found = by_object.find(name);
       int index;
@@ -250,7 +379,7 @@ class Builder {
         index = add_node(name, root_index);
         if (child->mNumMeshes > 0) by_object[name] = index;
       }
-      attach_meshes(child, global, index);
+      attach_meshes(child, global, index, true);
       for (unsigned c = 0; c < child->mNumChildren; ++c) walk(child->mChildren[c], global, index);
     }
   }
@@ -264,7 +393,7 @@ class Builder {
       Node& node = scene_.nodes[i];
       Pending& p = pending_[i];
       Mesh mesh;
-      for (const auto& [m, global] : p.meshes) {
+      for (const auto& [m, global, drawn] : p.meshes) {
         if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
           ++ignored_meshes;
           ignored_faces += m->mNumFaces;
@@ -275,7 +404,7 @@ class Builder {
         const Vec3 offset = global.topRightCorner<3, 1>();
         for (unsigned v = 0; v < m->mNumVertices; ++v) {
           const aiVector3D& a = m->mVertices[v];
-          mesh.vertices.push_back((linear * Vec3(a.x, a.y, a.z) + offset) * scale_);
+          mesh.vertices.push_back((drawn.empty() ? Vec3(linear * Vec3(a.x, a.y, a.z) + offset) : drawn[v]) * scale_);
         }
         for (unsigned f = 0; f < m->mNumFaces; ++f) {
           const aiFace& face = m->mFaces[f];
@@ -328,6 +457,7 @@ class Builder {
   double scale_;
   Scene& scene_;
   std::vector<Pending> pending_;
+  std::vector<TdsObject> tds_objects_;  // 3ds files only
   std::set<unsigned> used_meshes_;
 };
 
