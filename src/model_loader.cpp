@@ -388,14 +388,12 @@ class Builder {
     const std::string stem = file_.stem().string();
     int unnamed = 0;
     std::size_t ignored_faces = 0;
-    std::size_t ignored_meshes = 0;
     for (std::size_t i = 0; i < scene_.nodes.size(); ++i) {
       Node& node = scene_.nodes[i];
       Pending& p = pending_[i];
       Mesh mesh;
       for (const auto& [m, global, drawn] : p.meshes) {
         if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
-          ++ignored_meshes;
           ignored_faces += m->mNumFaces;
           continue;
         }
@@ -446,7 +444,6 @@ class Builder {
     if (ignored_faces > 0)
       scene_.warnings.push_back(located(file_, std::to_string(ignored_faces) +
                                                    " non-triangle primitives (points, lines) ignored"));
-    (void)ignored_meshes;
     std::size_t orphans = ai_.mNumMeshes - used_meshes_.size();
     if (orphans > 0)
       scene_.warnings.push_back(located(file_, std::to_string(orphans) + " meshes not attached to any node ignored"));

@@ -84,13 +84,13 @@ class Reader {
 
 // nlohmann reports a byte offset; people want line and column.
 void line_column(const std::string& text, std::size_t byte, long& line, long& column) {
-  line = 1;
-  column = 1;
+  line = true;
+  column = true;
   std::size_t end = std::min(byte > 0 ? byte - 1 : 0, text.size());
   for (std::size_t i = 0; i < end; ++i) {
     if (text[i] == '\n') {
       ++line;
-      column = 1;
+      column = true;
     } else {
       ++column;
     }
@@ -309,7 +309,7 @@ constexpr const char* kTerrainName = "terrain";
 
 void resolve_pairs(const Reader& r, const Json* allowed_json, Scene& scene) {
   const std::size_t n = scene.parts.size();
-  std::vector<char> allowed(n * n, 0);
+  std::vector<bool> allowed(n * n, false);  // symmetric, one bit per part pair
   std::set<int> terrain_allowed;
   if (allowed_json != nullptr) {
     if (!allowed_json->is_array()) r.error("allowed_collisions", "expected an array of [node, node] pairs");
@@ -332,8 +332,8 @@ void resolve_pairs(const Reader& r, const Json* allowed_json, Scene& scene) {
       }
       for (int a : sets[0])
         for (int b : sets[1]) {
-          allowed[static_cast<std::size_t>(a) * n + static_cast<std::size_t>(b)] = 1;
-          allowed[static_cast<std::size_t>(b) * n + static_cast<std::size_t>(a)] = 1;
+          allowed[static_cast<std::size_t>(a) * n + static_cast<std::size_t>(b)] = true;
+          allowed[static_cast<std::size_t>(b) * n + static_cast<std::size_t>(a)] = true;
         }
     }
   }
