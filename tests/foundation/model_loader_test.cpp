@@ -409,6 +409,23 @@ TEST(ModelLoaderFormats, AsciiAndBinaryStl) {
   }
 }
 
+TEST(ModelLoaderFormats, RealRobotMeshesKr5) {
+  // dart-doc's KUKA KR5 links: binary STL, 50 bytes per facet after an 84-byte header.
+  const std::filesystem::path folder = "/usr/share/doc/dart/data/urdf/KR5/meshes";
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() != ".STL") continue;
+    const std::size_t facets = (std::filesystem::file_size(entry.path()) - 84) / 50;
+    Scene s;
+    load_model(entry.path(), 0.001, s);
+    ASSERT_EQ(s.parts.size(), 1u) << entry.path();
+    EXPECT_EQ(s.parts[0].mesh.triangles.size(), facets) << entry.path();
+    EXPECT_EQ(s.parts[0].name, entry.path().stem().string());
+    ++files;
+  }
+  EXPECT_EQ(files, 7);
+}
+
 TEST(ModelLoaderFormats, PlyQuadsAreTriangulated) {
   const auto file = kAssimpModels / "PLY/cube.ply";
   // Count from the file: every face line "n i0 ... in-1" gives n - 2 triangles.
