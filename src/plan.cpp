@@ -61,7 +61,8 @@ Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
 
   Plan plan;
   plan.file = csv;
-  plan.name = csv.stem().string();
+  // The contract's default name: the file name without ".csv" (only that suffix).
+  plan.name = csv.extension() == ".csv" ? csv.stem().string() : csv.filename().string();
   bool tolerance_given = false;
 
   // Per column: index into the state vector, or -1 for the time column.

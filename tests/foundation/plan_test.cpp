@@ -74,6 +74,8 @@ TEST_F(PlanTest, DefaultsCrlfAndTrailingBlankLines) {
   const Plan no_newline = load_plan(scene_, dir_.write("q.csv", "J1,J2\n1,2"));
   EXPECT_EQ(no_newline.states.size(), 1u);
   EXPECT_EQ(no_newline.tolerance, 0.0);  // no target: no tolerance
+  EXPECT_EQ(no_newline.name, "q");
+  EXPECT_EQ(load_plan(scene_, dir_.write("r.plan.txt", "J1\n0\n")).name, "r.plan.txt");
 }
 
 TEST_F(PlanTest, HeaderErrors) {
