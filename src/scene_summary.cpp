@@ -61,7 +61,7 @@ void print_scene_summary(const Scene& scene, std::ostream& out) {
   for (const CheckedPair& c : scene.checked_pairs)
     out << "  " << scene.parts[c.a].name << " - " << scene.parts[c.b].name << "\n";
   if (scene.terrain && scene.terrain->collide) {
-    out << "terrain: checked against every part";
+    out << "terrain: checked against every moving part";
     if (!scene.terrain_allowed_parts.empty()) {
       out << " except";
       for (int p : scene.terrain_allowed_parts) out << " " << scene.parts[p].name;
