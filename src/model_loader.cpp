@@ -32,9 +32,9 @@
 // the file's frame), which is not always the keyframer's frame 0 as assimp
 // composes it: an animated file (RotatingCube.3DS), a mesh under a camera
 // (assimp gives a camera node only its roll), test1.3ds's rotated boxes. So a
-// 3ds part's vertices are the file's own points, matched to assimp's meshes
-// face by face (Builder::drawn_vertices); the keyframer gives the hierarchy
-// only. A second instance of an object ("Box01_inst_2") exists only in the
+// 3ds part's vertices and faces are the file's own (points shared as in the
+// file), matched to assimp's meshes face by face (Builder::match_drawn_faces);
+// the keyframer gives the hierarchy only. A second instance of an object ("Box01_inst_2") exists only in the
 // keyframer and keeps assimp's keyframer pose.
 // Non-triangle meshes (points, lines) are split off by aiProcess_SortByPType
 // and skipped with a warning. aiProcess_ValidateDataStructure turns broken
@@ -227,7 +227,10 @@ bool is_generated_child_name(const std::string& child, const std::string& parent
 struct PendingMesh {
   const aiMesh* mesh;
   Mat4 global;             // node transforms from the root down
-  std::vector<Vec3> drawn; // 3ds: the file's own points per mesh vertex; empty: use global
+  // 3ds drawn pose: the object whose points to use and, per mesh face, the
+  // object's face it came from. Null: the mesh's vertices through `global`.
+  const TdsObject* object = nullptr;
+  std::vector<unsigned> object_faces;
 };
 
 struct Pending {
@@ -277,13 +280,13 @@ class Builder {
     for (unsigned i = 0; i < node->mNumMeshes; ++i) {
       unsigned m = node->mMeshes[i];
       used_meshes_.insert(m);
-      PendingMesh pm{ai_.mMeshes[m], global, {}};
+      PendingMesh pm{ai_.mMeshes[m], global, nullptr, {}};
       // A 3ds object is taken as drawn (see the top of the file); a second
       // instance ("Name_inst_2") exists only in the keyframer, so it keeps
       // assimp's keyframer pose.
       const int object = tds_object_of(*pm.mesh);
       if (object >= 0 && (flat_3ds || tds_objects_[object].name == node->mName.C_Str()))
-        drawn_vertices(*pm.mesh, tds_objects_[object], pm.drawn);
+        if (match_drawn_faces(*pm.mesh, tds_objects_[object], pm.object_faces)) pm.object = &tds_objects_[object];
       pending_[target].meshes.push_back(std::move(pm));
     }
   }
@@ -299,17 +302,17 @@ class Builder {
 
   // assimp splits a 3ds object by material (faces of one material in file
   // order, three fresh vertices per face) and moves it into its node's frame.
-  // Matching the faces back gives the file's own points for each mesh vertex.
-  // The match is accepted only when one affine map takes the file's points to
-  // assimp's vertices (which is what assimp did); otherwise `out` stays empty
-  // and the keyframer pose is used, with a warning.
-  void drawn_vertices(const aiMesh& mesh, const TdsObject& object, std::vector<Vec3>& out) {
-    out.clear();
+  // Matching the faces back gives the file's own faces and points. The match
+  // is accepted only when one affine map takes the file's points to assimp's
+  // vertices (which is what assimp did); otherwise the keyframer pose is used,
+  // with a warning.
+  bool match_drawn_faces(const aiMesh& mesh, const TdsObject& object, std::vector<unsigned>& faces) {
     aiString material_name;
     if (mesh.mMaterialIndex < ai_.mNumMaterials)
       ai_.mMaterials[mesh.mMaterialIndex]->Get(AI_MATKEY_NAME, material_name);
     const std::string material = material_name.C_Str();
-    std::vector<unsigned> faces, with_unassigned;
+    std::vector<unsigned> with_unassigned;
+    faces.clear();
     for (unsigned f = 0; f < object.faces.size(); ++f) {
       if (object.face_material[f] == material) faces.push_back(f);
       if (object.face_material[f] == material || object.face_material[f].empty()) with_unassigned.push_back(f);
@@ -340,12 +343,10 @@ class Builder {
         ok = a.allFinite() && ((x * a - y).rowwise().norm().maxCoeff() <= 1e-4 * size);
       }
     }
-    if (ok) {
-      out = std::move(drawn);
-    } else {
+    if (!ok)
       scene_.warnings.push_back(located(file_, "3ds object '" + object.name +
                                                    "': faces not matched to assimp's mesh; keyframer pose used"));
-    }
+    return ok;
   }
 
   void walk(const aiNode* node, const Mat4& parent_global, int parent) {
@@ -392,9 +393,21 @@ class Builder {
       Node& node = scene_.nodes[i];
       Pending& p = pending_[i];
       Mesh mesh;
-      for (const auto& [m, global, drawn] : p.meshes) {
+      // A 3ds object's points enter a part once, shared by its meshes' faces.
+      std::map<const TdsObject*, std::uint32_t> object_base;
+      for (const auto& [m, global, object, object_faces] : p.meshes) {
         if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
           ignored_faces += m->mNumFaces;
+          continue;
+        }
+        if (object != nullptr) {
+          auto [at, inserted] = object_base.emplace(object, static_cast<std::uint32_t>(mesh.vertices.size()));
+          if (inserted)
+            for (const Vec3& point : object->points) mesh.vertices.push_back(point * scale_);
+          for (unsigned f : object_faces) {
+            const auto& t = object->faces[f];
+            mesh.triangles.push_back({at->second + t[0], at->second + t[1], at->second + t[2]});
+          }
           continue;
         }
         const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
@@ -402,7 +415,7 @@ class Builder {
         const Vec3 offset = global.topRightCorner<3, 1>();
         for (unsigned v = 0; v < m->mNumVertices; ++v) {
           const aiVector3D& a = m->mVertices[v];
-          mesh.vertices.push_back((drawn.empty() ? Vec3(linear * Vec3(a.x, a.y, a.z) + offset) : drawn[v]) * scale_);
+          mesh.vertices.push_back((linear * Vec3(a.x, a.y, a.z) + offset) * scale_);
         }
         for (unsigned f = 0; f < m->mNumFaces; ++f) {
           const aiFace& face = m->mFaces[f];

@@ -142,6 +142,7 @@ TEST(ModelLoader3ds, FlatFileWithoutKeyframerNamesPartsAfterObjects) {
   const Part& p = s.parts[0];
   EXPECT_EQ(p.name, tds.objects[0].name);
   EXPECT_EQ(p.mesh.triangles.size(), tds.objects[0].faces.size());
+  EXPECT_EQ(p.mesh.vertices.size(), tds.objects[0].points.size());  // shared as in the file
   // A flat list: the part hangs directly under the root.
   EXPECT_EQ(s.nodes[p.node].parent, 0);
   EXPECT_EQ(s.nodes[p.node].path, "/" + s.nodes[0].name + "/" + p.name);
@@ -311,6 +312,7 @@ TEST(ModelLoader3ds, FlatObjectSplitByMaterialIsOnePart) {
   ASSERT_GE(arm, 0);
   EXPECT_EQ(s.parts[scoop].mesh.triangles.size(), 3u);
   EXPECT_EQ(s.parts[arm].mesh.triangles.size(), 1u);
+  EXPECT_EQ(s.parts[scoop].mesh.vertices.size(), quad.size());  // both material meshes share the points
   EXPECT_EQ(s.nodes[s.parts[scoop].node].path, "/<3DSDummyRoot>/Scoop");
   // z stays up (the file's frame), times the length scale: the Scoop's top
   // vertex (0, 0, 3) is at z = 0.03 m, none of it is turned into y.
