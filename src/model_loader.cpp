@@ -16,11 +16,15 @@
 //   material yields several meshes with that same index. We read the object
 //   names from the file's own chunks and fold every "3DSMesh_<i>" of one
 //   object into one node named after the object.
-// - Other importers that hang an object's meshes on generated leaf children
-//   ("Object" -> "Object_3", or an unnamed child): a leaf child without
-//   children whose name is empty or "<parent>_<digits>" is folded into its
-//   parent (its meshes join the parent's part, its own transform still applied),
-//   unless the parent is the root (STL and PLY put the only mesh there).
+// - Importers (and exporters) that hang an object's meshes on generated
+//   children ("Object" -> "Object_3", or an unnamed child): such a child is
+//   folded into its parent (its meshes become the parent's part) when it is a
+//   leaf with meshes, named "" or "<parent>_<digits>", with an identity
+//   transform, under a parent that is not the root and owns no mesh itself.
+//   assimp 5.2's own 3ds importer never makes such children (it hangs meshes
+//   on the object's node), and the conditions are strict on purpose: a user's
+//   own child "Leg_1" under a "Leg" that has a mesh, or placed by its own
+//   transform, stays a part of its own.
 // - obj: root named after the file, one child per object/group; dae: the
 //   visual scene tree; gltf/glb: the node tree ("nodes[1]" when unnamed);
 //   stl/ply: a root (or one child) with an empty name. A part whose node has
@@ -285,8 +289,10 @@ class Builder {
       // instance ("Name_inst_2") exists only in the keyframer, so it keeps
       // assimp's keyframer pose.
       const int object = tds_object_of(*pm.mesh);
-      if (object >= 0 && (flat_3ds || tds_objects_[object].name == node->mName.C_Str()))
-        if (match_drawn_faces(*pm.mesh, tds_objects_[object], pm.object_faces)) pm.object = &tds_objects_[object];
+      if (object >= 0 && (flat_3ds || tds_objects_[object].name == node->mName.C_Str()) &&
+          match_drawn_faces(*pm.mesh, tds_objects_[object], pm.object_faces)) {
+        pm.object = &tds_objects_[object];
+      }
       pending_[target].meshes.push_back(std::move(pm));
     }
   }
@@ -352,7 +358,8 @@ class Builder {
   void walk(const aiNode* node, const Mat4& parent_global, int parent) {
     Mat4 global = parent_global * to_eigen(node->mTransformation);
     const std::string name = node->mName.C_Str();
-    if (node->mNumChildren == 0 && node->mNumMeshes > 0 && parent != 0 &&
+    if (node->mNumChildren == 0 && node->mNumMeshes > 0 && parent != 0 && node->mParent != nullptr &&
+        node->mParent->mNumMeshes == 0 && node->mTransformation.IsIdentity() &&
         is_generated_child_name(name, scene_.nodes[parent].name)) {
       attach_meshes(node, global, parent);
       return;

@@ -530,15 +530,27 @@ TEST(ModelLoaderFormats, GeneratedPerMeshChildIsFoldedIntoItsObject) {
   const auto file = testing::write_box_gltf(
       dir / "fold.gltf",
       {{.name = "world"},
-       {.name = "Object", .parent = 0, .box = true},
-       {.name = "Object_3", .parent = 1, .translation = {5, 0, 0}, .box = true}});
+       {.name = "Object", .parent = 0, .translation = {5, 0, 0}},
+       {.name = "Object_3", .parent = 1, .box = true},
+       {.name = "Object_4", .parent = 1, .box = true, .lo = {0, 0, 2}, .hi = {1, 1, 3}},
+       // Not generated: the parent has its own mesh, or the child its own place.
+       {.name = "Leg", .parent = 0, .box = true},
+       {.name = "Leg_1", .parent = 4, .box = true},
+       {.name = "Arm", .parent = 0},
+       {.name = "Arm_2", .parent = 6, .translation = {0, 1, 0}, .box = true}});
   Scene s;
   load_model(file, 1.0, s);
-  ASSERT_EQ(s.parts.size(), 1u);
-  EXPECT_EQ(s.parts[0].name, "Object");
-  EXPECT_EQ(s.parts[0].mesh.triangles.size(), 24u);  // own mesh first, then the folded child's
-  EXPECT_NEAR(s.parts[0].mesh.vertices.back().x(), 6.0, 1e-12);
-  for (const Node& n : s.nodes) EXPECT_NE(n.name, "Object_3");
+  ASSERT_EQ(s.parts.size(), 4u);
+  const int object = s.find_part("Object");
+  ASSERT_GE(object, 0);
+  EXPECT_EQ(s.parts[object].mesh.triangles.size(), 24u);  // both children, in file order
+  EXPECT_NEAR(s.parts[object].mesh.vertices.front().x(), 5.0, 1e-12);
+  EXPECT_NEAR(s.parts[object].mesh.vertices.back().z(), 3.0, 1e-12);
+  for (const Node& n : s.nodes) EXPECT_TRUE(n.name != "Object_3" && n.name != "Object_4") << n.name;
+  EXPECT_GE(s.find_part("Leg"), 0);
+  EXPECT_GE(s.find_part("Leg_1"), 0);
+  EXPECT_GE(s.find_part("Arm_2"), 0);
+  EXPECT_LT(s.find_part("Arm"), 0);
 }
 
 // Errors.
