@@ -1,8 +1,49 @@
 // SPDX-License-Identifier: MIT
-// The plancheck command line (contract: README "Command line").
-#include <iostream>
+// The plancheck command line (contract: shared/spec/plan-and-report-format.md).
+// Bad input of any kind ends in one "plancheck: ..." line on stderr and exit 2.
+#include "src/error.h"
+#include "src/scene_loader.h"
+#include "src/scene_summary.h"
 
-int main() {
-  std::cerr << "plancheck: not yet built\n";
-  return 2;
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+#include <string>
+
+namespace {
+
+constexpr int kExitBadInput = 2;
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"plancheck: verify robot-arm motion plans against a scene"};
+  app.require_subcommand(1);
+
+  std::string scene_file;
+  CLI::App* scene_cmd = app.add_subcommand("scene", "list parts, actions, checked pairs and reference contacts");
+  scene_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help and the like
+    std::cerr << "plancheck: " << e.what() << " (run plancheck --help)\n";
+    return kExitBadInput;
+  }
+
+  try {
+    if (scene_cmd->parsed()) {
+      const plancheck::Scene scene = plancheck::load_scene(scene_file);
+      plancheck::print_scene_summary(scene, std::cout);
+    }
+  } catch (const plancheck::InputError& e) {
+    std::cerr << "plancheck: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "plancheck: error: " << e.what() << "\n";
+    return kExitBadInput;
+  }
+  return 0;
 }

@@ -11,11 +11,15 @@
 
 namespace plancheck {
 
+// Target tolerance when a plan gives "# target:" without "# tolerance:", in
+// the scene's length_unit (1 cm in a scene in metres).
+inline constexpr double kDefaultTargetTolerance = 0.01;
+
 struct Plan {
   std::string name;                        // "# name:" or the file stem
   std::filesystem::path file;
   std::optional<Vec3> target;              // "# target:" (m, reference frame)
-  double tolerance = 0.0;                  // "# tolerance:" (m); default documented in README
+  double tolerance = 0.0;                  // "# tolerance:" (m); default kDefaultTargetTolerance
   std::vector<double> times;               // the optional time column (s); empty without it
   std::vector<std::vector<double>> states; // full parameter vectors (SI), scene.parameter_names order
   std::vector<long> lines;                 // file line of each state, for messages

@@ -128,6 +128,10 @@ struct Scene {
 
   std::vector<CheckedPair> checked_pairs;
   double safety_margin = 0.0;        // m
+  // Parts that allowed_collisions lets touch the terrain pseudo-part (sorted).
+  // The terrain is static: with terrain->collide, every moving part not listed
+  // here is checked against it (static parts never are).
+  std::vector<int> terrain_allowed_parts;
 
   std::optional<TerrainConfig> terrain;
   std::optional<ScoopConfig> scoop;

@@ -1,0 +1,512 @@
+// SPDX-License-Identifier: MIT
+// Model file -> part tree through assimp.
+//
+// What assimp 5.2 produces, and what we make of it (explored on the
+// assimp-testmodels files):
+// - 3ds with a keyframer section (CameraRollAnimWithChildObject.3ds, test1.3ds):
+//   root "<3DSRoot>" (or the file's root dummy), one node per keyframer node
+//   named after its object, meshes hung directly on that node, cameras and
+//   dummies as mesh-less nodes (Box02 sits under Camera01). A second instance
+//   of an object is a distinct node "Name_inst_2": it is a distinct part at
+//   another place, so it keeps that name.
+// - 3ds without a keyframer (fels.3ds): root "<3DSDummyRoot>" with one child
+//   "3DSMesh_<i>" per output mesh. The object names are lost there, but each
+//   mesh is named with the decimal index of its object among the file's
+//   trimesh objects (0x4000 chunks holding 0x4100), and an object split by
+//   material yields several meshes with that same index. We read the object
+//   names from the file's own chunks and fold every "3DSMesh_<i>" of one
+//   object into one node named after the object.
+// - Importers (and exporters) that hang an object's meshes on generated
+//   children ("Object" -> "Object_3", or an unnamed child): such a child is
+//   folded into its parent (its meshes become the parent's part) when it is a
+//   leaf with meshes, named "" or "<parent>_<digits>", with an identity
+//   transform, under a parent that is not the root and owns no mesh itself.
+//   assimp 5.2's own 3ds importer never makes such children (it hangs meshes
+//   on the object's node), and the conditions are strict on purpose: a user's
+//   own child "Leg_1" under a "Leg" that has a mesh, or placed by its own
+//   transform, stays a part of its own.
+// - obj: root named after the file, one child per object/group; dae: the
+//   visual scene tree; gltf/glb: the node tree ("nodes[1]" when unnamed);
+//   stl/ply: a root (or one child) with an empty name. A part whose node has
+//   no name is named after the model file's stem ("Wuson" for Wuson.ply), with
+//   "_2", "_3", ... when several are unnamed.
+// Coordinates: the reference frame is the file's own. assimp is told to leave
+// Collada's up_axis alone; its extra z-up -> y-up root turn for 3ds is taken
+// off again. For 3ds the drawn pose is the editor section (0x4110 points, in
+// the file's frame), which is not always the keyframer's frame 0 as assimp
+// composes it: an animated file (RotatingCube.3DS), a mesh under a camera
+// (assimp gives a camera node only its roll), test1.3ds's rotated boxes. So a
+// 3ds part's vertices and faces are the file's own (points shared as in the
+// file), matched to assimp's meshes face by face (Builder::match_drawn_faces);
+// the keyframer gives the hierarchy only. A second instance of an object ("Box01_inst_2") exists only in the
+// keyframer and keeps assimp's keyframer pose.
+// Non-triangle meshes (points, lines) are split off by aiProcess_SortByPType
+// and skipped with a warning. aiProcess_ValidateDataStructure turns broken
+// files (indices out of range, meshes without faces) into load errors instead
+// of undefined reads.
+#include "src/model_loader.h"
+
+#include "src/error.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace plancheck {
+namespace {
+
+using Mat4 = Eigen::Matrix4d;
+
+Mat4 to_eigen(const aiMatrix4x4& m) {
+  Mat4 r;
+  r << m.a1, m.a2, m.a3, m.a4,
+       m.b1, m.b2, m.b3, m.b4,
+       m.c1, m.c2, m.c3, m.c4,
+       m.d1, m.d2, m.d3, m.d4;
+  return r;
+}
+
+bool is_3ds(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".3ds";
+}
+
+// One trimesh object of a 3ds file as drawn (editor section): its points in
+// the file's frame, its faces, and each face's material name ("" if none).
+struct TdsObject {
+  std::string name;
+  std::vector<Vec3> points;
+  std::vector<std::array<unsigned, 3>> faces;
+  std::vector<std::string> face_material;
+};
+
+// The trimesh objects (0x4000 chunks holding 0x4100) in file order: assimp's
+// 3ds mesh names are indices into this list. Reading stops quietly at damage:
+// assimp has already judged the file, and a mismatch only means falling back
+// to assimp's own pose (see Builder::editor_vertices).
+class TdsReader {
+ public:
+  explicit TdsReader(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    b_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+
+  std::vector<TdsObject> objects() {
+    walk(0, b_.size(), nullptr);
+    return std::move(objects_);
+  }
+
+ private:
+  bool has(std::size_t at, std::size_t n, std::size_t end) const { return at <= end && n <= end - at; }
+  unsigned u16(std::size_t at) const { return static_cast<unsigned>(b_[at] | (b_[at + 1] << 8)); }
+  std::size_t u32(std::size_t at) const { return u16(at) | (static_cast<std::size_t>(u16(at + 2)) << 16); }
+  double f32(std::size_t at) const {
+    const auto bits = static_cast<std::uint32_t>(u32(at));
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+  }
+  // A zero-terminated string at `at`; `after` is set past the terminator.
+  std::string cstring(std::size_t at, std::size_t end, std::size_t& after) const {
+    std::size_t stop = at;
+    while (stop < end && b_[stop] != 0) ++stop;
+    after = std::min(stop + 1, end);
+    return std::string(b_.begin() + static_cast<long>(at), b_.begin() + static_cast<long>(stop));
+  }
+
+  void walk(std::size_t at, std::size_t end, TdsObject* object) {
+    while (has(at, 6, end)) {
+      const unsigned id = u16(at);
+      const std::size_t len = u32(at + 2);
+      if (len < 6 || !has(at, len, end)) return;
+      const std::size_t body = at + 6, stop = at + len;
+      switch (id) {
+        case 0x4D4D: case 0x3D3D: walk(body, stop, nullptr); break;
+        case 0x4000: {
+          std::size_t after;
+          TdsObject o;
+          o.name = cstring(body, stop, after);
+          bool trimesh = false;
+          for (std::size_t sub = after; has(sub, 6, stop) && u32(sub + 2) >= 6; sub += u32(sub + 2))
+            trimesh = trimesh || u16(sub) == 0x4100;
+          if (!trimesh) break;
+          walk(after, stop, &o);
+          objects_.push_back(std::move(o));
+          break;
+        }
+        case 0x4100: if (object) walk(body, stop, object); break;
+        case 0x4110:
+          if (object && has(body, 2, stop) && has(body + 2, 12 * std::size_t{u16(body)}, stop))
+            for (unsigned i = 0, n = u16(body); i < n; ++i)
+              object->points.emplace_back(f32(body + 2 + 12 * i), f32(body + 6 + 12 * i), f32(body + 10 + 12 * i));
+          break;
+        case 0x4120:
+          if (object && has(body, 2, stop) && has(body + 2, 8 * std::size_t{u16(body)}, stop)) {
+            const unsigned n = u16(body);
+            for (unsigned i = 0; i < n; ++i)
+              object->faces.push_back({u16(body + 2 + 8 * i), u16(body + 4 + 8 * i), u16(body + 6 + 8 * i)});
+            object->face_material.assign(n, std::string());
+            walk(body + 2 + 8 * std::size_t{n}, stop, object);  // material groups follow the face list
+          }
+          break;
+        case 0x4130:
+          if (object) {
+            std::size_t after;
+            const std::string material = cstring(body, stop, after);
+            if (has(after, 2, stop) && has(after + 2, 2 * std::size_t{u16(after)}, stop))
+              for (unsigned i = 0, n = u16(after); i < n; ++i) {
+                const unsigned face = u16(after + 2 + 2 * i);
+                if (face < object->face_material.size()) object->face_material[face] = material;
+              }
+          }
+          break;
+        default: break;
+      }
+      at = stop;
+    }
+  }
+
+  std::vector<unsigned char> b_;
+  std::vector<TdsObject> objects_;
+};
+
+// assimp's OFF reader believes the header's counts and spends a minute and
+// gigabytes on a header like "353535235358 6 0" (assimp-testmodels
+// invalid/OutOfMemory.off). A count the file cannot hold is refused up front:
+// a vertex line takes at least 6 bytes ("0 0 0\n"), a face line at least 8.
+void check_off_counts(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".off") return;
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec) return;
+  std::ifstream in(file);
+  std::string word;
+  std::vector<std::string> words;
+  while (words.size() < 3 && in >> word) {
+    if (word[0] == '#') {
+      std::getline(in, word);
+      continue;
+    }
+    if (words.empty() && word.size() >= 3 && word.compare(word.size() - 3, 3, "OFF") == 0) continue;
+    words.push_back(word);
+  }
+  if (words.size() < 2) return;  // let assimp say what is wrong
+  char* end = nullptr;
+  const unsigned long long vertices = std::strtoull(words[0].c_str(), &end, 10);
+  const unsigned long long faces = std::strtoull(words[1].c_str(), &end, 10);
+  if (vertices > size / 6 + 1 || faces > size / 8 + 1)
+    fail(file, "cannot read model: the OFF header claims " + words[0] + " vertices and " + words[1] +
+                   " faces, more than the file can hold");
+}
+
+bool is_generated_child_name(const std::string& child, const std::string& parent) {
+  if (child.empty()) return true;
+  if (parent.empty() || child.size() <= parent.size() + 1) return false;
+  if (child.compare(0, parent.size(), parent) != 0 || child[parent.size()] != '_') return false;
+  return std::all_of(child.begin() + static_cast<long>(parent.size()) + 1, child.end(),
+                     [](unsigned char c) { return std::isdigit(c); });
+}
+
+// One output node while the tree is built: meshes with the global transform
+// of the assimp node that carried them.
+struct PendingMesh {
+  const aiMesh* mesh;
+  Mat4 global;             // node transforms from the root down
+  // 3ds drawn pose: the object whose points to use and, per mesh face, the
+  // object's face it came from. Null: the mesh's vertices through `global`.
+  const TdsObject* object = nullptr;
+  std::vector<unsigned> object_faces;
+};
+
+struct Pending {
+  std::vector<PendingMesh> meshes;
+};
+
+class Builder {
+ public:
+  Builder(const aiScene& ai, const std::filesystem::path& file, double scale, Scene& scene)
+      : ai_(ai), file_(file), scale_(scale), scene_(scene) {}
+
+  void build() {
+    if (is_3ds(file_)) tds_objects_ = TdsReader(file_).objects();
+    const aiNode* root = ai_.mRootNode;
+    int root_index = add_node(root->mName.C_Str(), -1);
+    Mat4 root_global = to_eigen(root->mTransformation);
+    if (is_3ds(file_)) {
+      // assimp's 3ds importer prepends a z-up -> y-up turn (x, y, z) -> (x, z, -y)
+      // to the root; the reference frame is the file's own (z up, as the
+      // terrain and every pivot in the scene are), so take it off again.
+      Mat4 y_up_to_z_up = Mat4::Identity();
+      y_up_to_z_up.topLeftCorner<3, 3>() << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+      root_global = y_up_to_z_up * root_global;
+    }
+    attach_meshes(root, root_global, root_index);
+    if (is_3ds(file_) && std::strcmp(root->mName.C_Str(), "<3DSDummyRoot>") == 0) {
+      build_flat_3ds(root, root_global, root_index);
+    } else {
+      for (unsigned i = 0; i < root->mNumChildren; ++i) walk(root->mChildren[i], root_global, root_index);
+    }
+    make_parts();
+  }
+
+ private:
+  int add_node(const std::string& name, int parent) {
+    Node n;
+    n.name = name;
+    n.parent = parent;
+    int index = static_cast<int>(scene_.nodes.size());
+    if (parent >= 0) scene_.nodes[parent].children.push_back(index);
+    scene_.nodes.push_back(std::move(n));
+    pending_.emplace_back();
+    return index;
+  }
+
+  void attach_meshes(const aiNode* node, const Mat4& global, int target, bool flat_3ds = false) {
+    for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+      unsigned m = node->mMeshes[i];
+      used_meshes_.insert(m);
+      PendingMesh pm{ai_.mMeshes[m], global, nullptr, {}};
+      // A 3ds object is taken as drawn (see the top of the file); a second
+      // instance ("Name_inst_2") exists only in the keyframer, so it keeps
+      // assimp's keyframer pose.
+      const int object = tds_object_of(*pm.mesh);
+      if (object >= 0 && (flat_3ds || tds_objects_[object].name == node->mName.C_Str()) &&
+          match_drawn_faces(*pm.mesh, tds_objects_[object], pm.object_faces)) {
+        pm.object = &tds_objects_[object];
+      }
+      pending_[target].meshes.push_back(std::move(pm));
+    }
+  }
+
+  // assimp names each 3ds mesh with the decimal index of its object.
+  int tds_object_of(const aiMesh& mesh) const {
+    const char* name = mesh.mName.C_Str();
+    char* end = nullptr;
+    const unsigned long object = std::strtoul(name, &end, 10);
+    if (*name == '\0' || *end != '\0' || object >= tds_objects_.size()) return -1;
+    return static_cast<int>(object);
+  }
+
+  // assimp splits a 3ds object by material (faces of one material in file
+  // order, three fresh vertices per face) and moves it into its node's frame.
+  // Matching the faces back gives the file's own faces and points. The match
+  // is accepted only when one affine map takes the file's points to assimp's
+  // vertices (which is what assimp did); otherwise the keyframer pose is used,
+  // with a warning.
+  bool match_drawn_faces(const aiMesh& mesh, const TdsObject& object, std::vector<unsigned>& faces) {
+    aiString material_name;
+    if (mesh.mMaterialIndex < ai_.mNumMaterials)
+      ai_.mMaterials[mesh.mMaterialIndex]->Get(AI_MATKEY_NAME, material_name);
+    const std::string material = material_name.C_Str();
+    std::vector<unsigned> with_unassigned;
+    faces.clear();
+    for (unsigned f = 0; f < object.faces.size(); ++f) {
+      if (object.face_material[f] == material) faces.push_back(f);
+      if (object.face_material[f] == material || object.face_material[f].empty()) with_unassigned.push_back(f);
+    }
+    if (faces.size() != mesh.mNumFaces) faces = with_unassigned;  // assimp's default material
+    bool ok = faces.size() == mesh.mNumFaces && mesh.mNumVertices > 0;
+    std::vector<Vec3> drawn(mesh.mNumVertices, Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
+    for (unsigned q = 0; ok && q < mesh.mNumFaces; ++q) {
+      const aiFace& face = mesh.mFaces[q];
+      ok = face.mNumIndices == 3;
+      for (unsigned a = 0; ok && a < 3; ++a) {
+        const unsigned point = object.faces[faces[q]][a];
+        ok = face.mIndices[a] < mesh.mNumVertices && point < object.points.size();
+        if (ok) drawn[face.mIndices[a]] = object.points[point];
+      }
+    }
+    if (ok) {
+      // Least squares: assimp_vertex = A * [drawn; 1].
+      Eigen::MatrixXd x(mesh.mNumVertices, 4), y(mesh.mNumVertices, 3);
+      for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+        ok = ok && drawn[v].allFinite();
+        x.row(v) << drawn[v].transpose(), 1.0;
+        y.row(v) << mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z;
+      }
+      if (ok) {
+        const Eigen::MatrixXd a = x.colPivHouseholderQr().solve(y);
+        const double size = std::max(1.0, (y.colwise().maxCoeff() - y.colwise().minCoeff()).norm());
+        ok = a.allFinite() && ((x * a - y).rowwise().norm().maxCoeff() <= 1e-4 * size);
+      }
+    }
+    if (!ok)
+      scene_.warnings.push_back(located(file_, "3ds object '" + object.name +
+                                                   "': faces not matched to assimp's mesh; keyframer pose used"));
+    return ok;
+  }
+
+  void walk(const aiNode* node, const Mat4& parent_global, int parent) {
+    Mat4 global = parent_global * to_eigen(node->mTransformation);
+    const std::string name = node->mName.C_Str();
+    if (node->mNumChildren == 0 && node->mNumMeshes > 0 && parent != 0 && node->mParent != nullptr &&
+        node->mParent->mNumMeshes == 0 && node->mTransformation.IsIdentity() &&
+        is_generated_child_name(name, scene_.nodes[parent].name)) {
+      attach_meshes(node, global, parent);
+      return;
+    }
+    int index = add_node(name, parent);
+    attach_meshes(node, global, index);
+    for (unsigned i = 0; i < node->mNumChildren; ++i) walk(node->mChildren[i], global, index);
+  }
+
+  void build_flat_3ds(const aiNode* root, const Mat4& root_global, int root_index) {
+    std::map<std::string, int> by_object;
+    for (unsigned i = 0; i < root->mNumChildren; ++i) {
+      const aiNode* child = root->mChildren[i];
+      Mat4 global = root_global * to_eigen(child->mTransformation);
+      std::string name = child->mName.C_Str();
+      if (child->mNumMeshes > 0) {
+        const int object = tds_object_of(*ai_.mMeshes[child->mMeshes[0]]);
+        if (object >= 0) name = tds_objects_[object].name;
+      }
+      auto found = by_object.find(name);
+      int index;
+      if (found != by_object.end() && child->mNumMeshes > 0) {
+        index = found->second;
+      } else {
+        index = add_node(name, root_index);
+        if (child->mNumMeshes > 0) by_object[name] = index;
+      }
+      attach_meshes(child, global, index, true);
+      for (unsigned c = 0; c < child->mNumChildren; ++c) walk(child->mChildren[c], global, index);
+    }
+  }
+
+  void make_parts() {
+    const std::string stem = file_.stem().string();
+    int unnamed = 0;
+    std::size_t ignored_faces = 0;
+    for (std::size_t i = 0; i < scene_.nodes.size(); ++i) {
+      Node& node = scene_.nodes[i];
+      Pending& p = pending_[i];
+      Mesh mesh;
+      // A 3ds object's points enter a part once, shared by its meshes' faces.
+      std::map<const TdsObject*, std::uint32_t> object_base;
+      for (const auto& [m, global, object, object_faces] : p.meshes) {
+        if (!(m->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) {
+          ignored_faces += m->mNumFaces;
+          continue;
+        }
+        if (object != nullptr) {
+          auto [at, inserted] = object_base.emplace(object, static_cast<std::uint32_t>(mesh.vertices.size()));
+          if (inserted)
+            for (const Vec3& point : object->points) mesh.vertices.push_back(point * scale_);
+          for (unsigned f : object_faces) {
+            const auto& t = object->faces[f];
+            mesh.triangles.push_back({at->second + t[0], at->second + t[1], at->second + t[2]});
+          }
+          continue;
+        }
+        const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+        const Mat3 linear = global.topLeftCorner<3, 3>();
+        const Vec3 offset = global.topRightCorner<3, 1>();
+        for (unsigned v = 0; v < m->mNumVertices; ++v) {
+          const aiVector3D& a = m->mVertices[v];
+          mesh.vertices.push_back((linear * Vec3(a.x, a.y, a.z) + offset) * scale_);
+        }
+        for (unsigned f = 0; f < m->mNumFaces; ++f) {
+          const aiFace& face = m->mFaces[f];
+          if (face.mNumIndices != 3) {
+            ++ignored_faces;
+            continue;
+          }
+          mesh.triangles.push_back({base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+        }
+      }
+      if (mesh.triangles.empty()) continue;
+      if (node.name.empty()) node.name = unnamed++ == 0 ? stem : stem + "_" + std::to_string(unnamed);
+      Part part;
+      part.name = node.name;
+      part.node = static_cast<int>(i);
+      part.mesh = std::move(mesh);
+      node.part = static_cast<int>(scene_.parts.size());
+      scene_.parts.push_back(std::move(part));
+    }
+    // Paths after naming, parents before children by construction.
+    for (Node& node : scene_.nodes) {
+      const std::string shown = node.name.empty() ? "<unnamed>" : node.name;
+      node.path = (node.parent < 0 ? std::string() : scene_.nodes[node.parent].path) + "/" + shown;
+    }
+    for (const Part& part : scene_.parts) {
+      for (const Vec3& v : part.mesh.vertices) {
+        if (!v.allFinite())
+          fail(file_, "part '" + part.name + "' (" + scene_.nodes[part.node].path + "): non-finite vertex");
+      }
+    }
+    std::map<std::string, int> seen;
+    for (const Part& part : scene_.parts) {
+      auto [it, inserted] = seen.emplace(part.name, part.node);
+      if (!inserted)
+        fail(file_, "duplicate part name '" + part.name + "': " + scene_.nodes[it->second].path + " and " +
+                        scene_.nodes[part.node].path);
+    }
+    if (scene_.parts.empty()) fail(file_, "the model has no triangles");
+    if (ignored_faces > 0)
+      scene_.warnings.push_back(located(file_, std::to_string(ignored_faces) +
+                                                   " non-triangle primitives (points, lines) ignored"));
+    std::size_t orphans = ai_.mNumMeshes - used_meshes_.size();
+    if (orphans > 0)
+      scene_.warnings.push_back(located(file_, std::to_string(orphans) + " meshes not attached to any node ignored"));
+  }
+
+  const aiScene& ai_;
+  std::filesystem::path file_;
+  double scale_;
+  Scene& scene_;
+  std::vector<Pending> pending_;
+  std::vector<TdsObject> tds_objects_;  // 3ds files only
+  std::set<unsigned> used_meshes_;
+};
+
+}  // namespace
+
+void load_model(const std::filesystem::path& model, double length_scale, Scene& scene) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(model, ec)) fail(model, "cannot open model file (missing or not a file)");
+  {
+    std::ifstream probe(model, std::ios::binary);
+    if (!probe) fail(model, "cannot open model file");
+    if (probe.peek() == std::ifstream::traits_type::eof()) fail(model, "cannot read model: the file is empty");
+  }
+  check_off_counts(model);
+  Assimp::Importer importer;
+  // The reference frame is the file's own coordinates: no up-axis conversion.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  // FBX pivots would otherwise appear as extra "$AssimpFbx$" nodes in the part tree.
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
+  const aiScene* ai = nullptr;
+  try {
+    ai = importer.ReadFile(model.string(),
+                           aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
+  } catch (const std::exception& e) {
+    fail(model, std::string("cannot read model: ") + e.what());
+  }
+  if (ai == nullptr) fail(model, std::string("cannot read model: ") + importer.GetErrorString());
+  if (ai->mRootNode == nullptr || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE) || ai->mNumMeshes == 0)
+    fail(model, "cannot read model: the file holds no meshes");
+  scene.nodes.clear();
+  scene.parts.clear();
+  Builder(*ai, model, length_scale, scene).build();
+}
+
+}  // namespace plancheck

@@ -1,0 +1,189 @@
+// SPDX-License-Identifier: MIT
+// Small fixtures for the foundation tests: a temporary folder, file writing,
+// a glTF writer for node trees of boxes (glTF keeps a hierarchy and node
+// translations, which OBJ cannot), and an InputError matcher.
+#pragma once
+
+#include "src/error.h"
+#include "src/scene.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <initializer_list>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace plancheck::testing {
+
+inline const std::filesystem::path kAssimpModels = "/usr/share/assimp/models";
+
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    path_ = std::filesystem::temp_directory_path() /
+            ("plancheck-foundation-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    std::filesystem::remove_all(path_);
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+  std::filesystem::path write(const std::string& name, const std::string& text) const {
+    std::filesystem::path p = path_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// One node of a generated glTF model: an optional axis-aligned box mesh.
+struct BoxNode {
+  std::string name;
+  int parent = -1;           // index into the node list; -1 for the single top node
+  Vec3 translation = Vec3::Zero();
+  bool box = false;
+  Vec3 lo = Vec3::Zero();    // box corners in the node's local frame
+  Vec3 hi = Vec3::Ones();
+};
+
+inline std::string base64(const std::vector<unsigned char>& data) {
+  static const char* kDigits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  for (std::size_t i = 0; i < data.size(); i += 3) {
+    unsigned v = data[i] << 16;
+    if (i + 1 < data.size()) v |= data[i + 1] << 8;
+    if (i + 2 < data.size()) v |= data[i + 2];
+    out += kDigits[(v >> 18) & 63];
+    out += kDigits[(v >> 12) & 63];
+    out += i + 1 < data.size() ? kDigits[(v >> 6) & 63] : '=';
+    out += i + 2 < data.size() ? kDigits[v & 63] : '=';
+  }
+  return out;
+}
+
+// The 8 corners of a box, index = x bit 0, y bit 1, z bit 2.
+inline std::vector<Vec3> box_corners(const Vec3& lo, const Vec3& hi) {
+  std::vector<Vec3> v;
+  for (int i = 0; i < 8; ++i) v.emplace_back(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  return v;
+}
+
+inline const std::vector<Tri>& box_triangles() {
+  static const std::vector<Tri> kTris = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                                         {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return kTris;
+}
+
+// Writes a .gltf with an embedded buffer. Every coordinate (translations,
+// box corners) is multiplied by `unit` so one tree can be written in m, cm or mm.
+inline std::filesystem::path write_box_gltf(const std::filesystem::path& file, const std::vector<BoxNode>& nodes,
+                                            double unit = 1.0) {
+  using nlohmann::json;
+  std::vector<unsigned char> buffer;
+  auto put = [&](const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    buffer.insert(buffer.end(), b, b + n);
+  };
+  json j;
+  j["asset"] = {{"version", "2.0"}};
+  j["nodes"] = json::array();
+  j["meshes"] = json::array();
+  j["accessors"] = json::array();
+  j["bufferViews"] = json::array();
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const BoxNode& n = nodes[i];
+    json jn = {{"name", n.name}};
+    const Vec3 t = n.translation * unit;
+    if (!t.isZero()) jn["translation"] = {t.x(), t.y(), t.z()};
+    std::vector<int> children;
+    for (std::size_t c = 0; c < nodes.size(); ++c)
+      if (nodes[c].parent == static_cast<int>(i)) children.push_back(static_cast<int>(c));
+    if (!children.empty()) jn["children"] = children;
+    if (n.box) {
+      const std::size_t pos_offset = buffer.size();
+      std::vector<Vec3> corners = box_corners(n.lo * unit, n.hi * unit);
+      Vec3 lo = n.lo * unit, hi = n.hi * unit;
+      for (const Vec3& c : corners) {
+        float f[3] = {static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z())};
+        put(f, sizeof f);
+      }
+      const std::size_t index_offset = buffer.size();
+      for (const Tri& t3 : box_triangles()) put(t3.data(), sizeof(std::uint32_t) * 3);
+      const int view = static_cast<int>(j["bufferViews"].size());
+      j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", pos_offset}, {"byteLength", 8 * 12}});
+      j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", index_offset}, {"byteLength", 12 * 12}});
+      const int acc = static_cast<int>(j["accessors"].size());
+      j["accessors"].push_back({{"bufferView", view}, {"componentType", 5126}, {"count", 8}, {"type", "VEC3"},
+                                {"min", {lo.x(), lo.y(), lo.z()}}, {"max", {hi.x(), hi.y(), hi.z()}}});
+      j["accessors"].push_back({{"bufferView", view + 1}, {"componentType", 5125}, {"count", 36}, {"type", "SCALAR"}});
+      const int mesh = static_cast<int>(j["meshes"].size());
+      j["meshes"].push_back({{"name", n.name + "-mesh"},
+                             {"primitives", {{{"attributes", {{"POSITION", acc}}}, {"indices", acc + 1}, {"mode", 4}}}}});
+      jn["mesh"] = mesh;
+    }
+    j["nodes"].push_back(jn);
+  }
+  std::vector<int> tops;
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].parent < 0) tops.push_back(static_cast<int>(i));
+  j["scenes"] = {{{"nodes", tops}}};
+  j["scene"] = 0;
+  j["buffers"] = {{{"byteLength", buffer.size()},
+                   {"uri", "data:application/octet-stream;base64," + base64(buffer)}}};
+  std::ofstream(file, std::ios::binary) << j.dump(1);
+  return file;
+}
+
+// The arm used by the scene, kinematics, plan and CLI tests, in metres when
+// unit = 1 (unit = 1000 writes the same arm in millimetres):
+//   world
+//   |- base   box (-1,-1,-0.5)..(1,1,0)            static
+//   |- mast   box (2,2,0)..(2.25,2.25,2)           static
+//   `- arm1   box x 0..1                            (J1 in the scenes)
+//      |- arm2   at x = 1, box x 1..2 (world)      (J2)
+//      |  `- tip at x = 2, box x 2..2.25 (world)
+//      `- arm1b  box beside arm1 (same chain as arm1)
+inline std::filesystem::path write_arm_model(const std::filesystem::path& file, double unit = 1.0) {
+  return write_box_gltf(
+      file,
+      {{.name = "world"},
+       {.name = "base", .parent = 0, .box = true, .lo = {-1, -1, -0.5}, .hi = {1, 1, 0}},
+       {.name = "mast", .parent = 0, .box = true, .lo = {2, 2, 0}, .hi = {2.25, 2.25, 2}},
+       {.name = "arm1", .parent = 0, .box = true, .lo = {0, -0.125, 0}, .hi = {1, 0.125, 0.25}},
+       {.name = "arm2", .parent = 3, .translation = {1, 0, 0}, .box = true, .lo = {0, -0.125, 0}, .hi = {1, 0.125, 0.25}},
+       {.name = "tip", .parent = 4, .translation = {1, 0, 0}, .box = true, .lo = {0, -0.125, 0}, .hi = {0.25, 0.125, 0.25}},
+       {.name = "arm1b", .parent = 3, .box = true, .lo = {0, -0.5, 0}, .hi = {0.25, -0.25, 0.25}}},
+      unit);
+}
+
+// Runs f, expects an InputError whose message contains every one of `parts`.
+inline void expect_input_error(const std::function<void()>& f, std::initializer_list<std::string> parts) {
+  try {
+    f();
+    ADD_FAILURE() << "no InputError thrown";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    for (const std::string& p : parts)
+      EXPECT_NE(message.find(p), std::string::npos) << "message '" << message << "' lacks '" << p << "'";
+  }
+}
+
+}  // namespace plancheck::testing

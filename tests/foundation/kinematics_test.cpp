@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: MIT
+// Forward kinematics against poses computed by hand, the composition order of
+// the contract, units (m/cm/mm, deg/rad) and limits.
+#include "src/kinematics.h"
+
+#include "src/scene_loader.h"
+#include "tests/foundation/fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+namespace plancheck {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The arm with J1 (z through the origin) on arm1, J2 (y through x = 1) on
+// arm2, and on tip a translation along x (Ext, listed first) and a scale about
+// (2, 0, 0) (Grow); lengths multiplied by `unit`, angles given in `angle_unit`.
+std::filesystem::path write_arm_scene(const testing::TempDir& dir, const std::string& length_unit, double unit,
+                                      const std::string& angle_unit) {
+  const std::string model = "arm_" + length_unit + ".gltf";
+  testing::write_arm_model(dir / model, unit);
+  const double limit = angle_unit == "deg" ? 90.0 : kPi / 2;
+  auto n = [&](double v) { return std::to_string(v * unit); };
+  return dir.write("arm_" + length_unit + "_" + angle_unit + ".json",
+                   R"({"format": "plancheck-scene/1", "model": ")" + model + R"(", "length_unit": ")" + length_unit +
+                       R"(", "angle_unit": ")" + angle_unit + R"(", "actions": [
+      {"name": "J1", "node": "arm1", "type": "rotate", "pivot": [0, 0, 0], "axis": [0, 0, 1], "limits": [)" +
+                       std::to_string(-limit) + ", " + std::to_string(limit) + R"(]},
+      {"name": "J2", "node": "arm2", "type": "rotate", "pivot": [)" + n(1) + R"(, 0, 0], "axis": [0, 1, 0]},
+      {"name": "Ext", "node": "tip", "type": "translate", "axis": [2, 0, 0], "limits": [0, )" + n(0.5) + R"(]},
+      {"name": "Grow", "node": "tip", "type": "scale", "fixed_point": [)" + n(2) + R"(, 0, 0]}]})");
+}
+
+// Parameters in SI: J1, J2 (rad), Ext (m), Grow.x/y/z.
+std::vector<double> params(double j1, double j2, double ext, Vec3 grow) {
+  return {j1, j2, ext, grow.x(), grow.y(), grow.z()};
+}
+
+TEST(Kinematics, HandComputedPoseOfTheTip) {
+  testing::TempDir dir;
+  const Scene s = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
+  ASSERT_EQ(s.parameter_names, (std::vector<std::string>{"J1", "J2", "Ext", "Grow.x", "Grow.y", "Grow.z"}));
+  const auto p = params(kPi / 2, kPi / 2, 0.5, {2, 1, 1});
+  const Affine t = part_transform(s, s.find_part("tip"), p);
+  // Tip corner (2.25, 0.125, 0.25):
+  //   Grow about (2,0,0) by (2,1,1)       -> (2.5, 0.125, 0.25)
+  //   Ext +0.5 along x                    -> (3.0, 0.125, 0.25)
+  //   J2 +90 deg about y through (1,0,0)  -> (1,0,0) + (0.25, 0.125, -2.0) = (1.25, 0.125, -2.0)
+  //   J1 +90 deg about z through origin   -> (-0.125, 1.25, -2.0)
+  EXPECT_LT((t * Vec3(2.25, 0.125, 0.25) - Vec3(-0.125, 1.25, -2.0)).norm(), 1e-12);
+  // arm2's far corner (2, 0.125, 0.25) only sees J2 then J1.
+  const Affine t2 = part_transform(s, s.find_part("arm2"), p);
+  EXPECT_LT((t2 * Vec3(2, 0.125, 0.25) - Vec3(-0.125, 1.25, -1.0)).norm(), 1e-12);
+  // Static parts do not move.
+  EXPECT_TRUE(part_transform(s, s.find_part("base"), p).matrix().isIdentity(0.0));
+}
+
+TEST(Kinematics, CompositionOrderIsRootFirst) {
+  // A1(A2(x)) and A2(A1(x)) differ for J1 then J2: check the contract's order
+  // on a generic pose against an explicit Rodrigues rotation.
+  testing::TempDir dir;
+  const Scene s = load_scene(write_arm_scene(dir, "m", 1.0, "rad"));
+  auto rodrigues = [](const Vec3& u, double a, const Vec3& pivot, const Vec3& x) {
+    const Vec3 v = x - pivot;
+    return Vec3(v * std::cos(a) + u.cross(v) * std::sin(a) + u * u.dot(v) * (1 - std::cos(a)) + pivot);
+  };
+  const double j1 = 0.7, j2 = -1.1, ext = 0.3;
+  const Vec3 grow(1.5, 0.5, 2.0);
+  const Vec3 x(2.2, -0.1, 0.2);
+  Vec3 expected = Vec3(2, 0, 0) + (x - Vec3(2, 0, 0)).cwiseProduct(grow);  // Grow (innermost)
+  expected += Vec3(ext, 0, 0);                                            // Ext
+  expected = rodrigues(Vec3::UnitY(), j2, Vec3(1, 0, 0), expected);       // J2
+  expected = rodrigues(Vec3::UnitZ(), j1, Vec3::Zero(), expected);        // J1 (outermost)
+  const auto p = params(j1, j2, ext, grow);
+  EXPECT_LT((part_transform(s, s.find_part("tip"), p) * x - expected).norm(), 1e-12);
+  std::vector<Affine> chains;
+  chain_transforms(s, p, chains);
+  ASSERT_EQ(chains.size(), s.chains.size());
+  for (const Part& part : s.parts)
+    EXPECT_TRUE(chains[part.chain_id].isApprox(part_transform(s, static_cast<int>(&part - s.parts.data()), p)))
+        << part.name;
+}
+
+TEST(Kinematics, RightHandedRotation) {
+  Action a;
+  a.type = ActionType::kRotate;
+  a.axis = Vec3::UnitZ();
+  a.pivot = Vec3(1, 1, 0);
+  const double angle = kPi / 2;
+  // Counter-clockwise looking down -z: +x turns into +y.
+  EXPECT_LT((action_transform(a, &angle) * Vec3(2, 1, 0) - Vec3(1, 2, 0)).norm(), 1e-15);
+}
+
+TEST(Kinematics, FreeTranslationAndScaleActions) {
+  Action t;
+  t.type = ActionType::kTranslateFree;
+  const double offset[3] = {1, -2, 3};
+  EXPECT_LT((action_transform(t, offset) * Vec3(1, 1, 1) - Vec3(2, -1, 4)).norm(), 1e-15);
+  Action s;
+  s.type = ActionType::kScale;
+  s.fixed_point = Vec3(1, 1, 1);
+  const double factors[3] = {2, 3, 0.5};
+  EXPECT_LT((action_transform(s, factors) * Vec3(1, 1, 1) - Vec3(1, 1, 1)).norm(), 1e-15);  // fixed point stays
+  EXPECT_LT((action_transform(s, factors) * Vec3(2, 2, 3) - Vec3(3, 4, 2)).norm(), 1e-15);
+  Action axis;
+  axis.type = ActionType::kTranslateAxis;
+  axis.axis = Vec3(0, 0.6, 0.8);
+  const double d = 5;
+  EXPECT_LT((action_transform(axis, &d) * Vec3::Zero() - Vec3(0, 3, 4)).norm(), 1e-15);
+}
+
+TEST(Kinematics, SameAnswersInMetresCentimetresAndMillimetres) {
+  testing::TempDir dir;
+  const Scene m = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
+  const Scene cm = load_scene(write_arm_scene(dir, "cm", 100.0, "deg"));
+  const Scene mm = load_scene(write_arm_scene(dir, "mm", 1000.0, "rad"));
+  const auto p = params(0.4, -0.9, 0.2, {1.2, 0.8, 1.1});  // SI: identical for every scene
+  for (const Scene* other : {&cm, &mm}) {
+    for (std::size_t i = 0; i < m.parts.size(); ++i) {
+      const Part& a = m.parts[i];
+      const Part& b = other->parts[i];
+      ASSERT_EQ(a.name, b.name);
+      ASSERT_EQ(a.mesh.vertices.size(), b.mesh.vertices.size());
+      const Affine ta = part_transform(m, static_cast<int>(i), p);
+      const Affine tb = part_transform(*other, static_cast<int>(i), p);
+      for (std::size_t v = 0; v < a.mesh.vertices.size(); ++v)
+        EXPECT_LT((ta * a.mesh.vertices[v] - tb * b.mesh.vertices[v]).norm(), 1e-9) << a.name;
+    }
+    EXPECT_NEAR(other->actions[2].upper, 0.5, 1e-15);  // Ext limit, metres
+  }
+  EXPECT_NEAR(mm.actions[0].upper, kPi / 2, 1e-6);  // written with 6 decimals in rad
+}
+
+TEST(Kinematics, LimitsCompareInSi) {
+  testing::TempDir dir;
+  const Scene s = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
+  const double deg = kPi / 180;
+  EXPECT_EQ(first_limit_violation(s, params(90 * deg, 0, 0.5, {1, 1, 1})), -1);  // on the limit is inside
+  EXPECT_EQ(first_limit_violation(s, params(-90 * deg, 0, 0, {1, 1, 1})), -1);
+  EXPECT_EQ(first_limit_violation(s, params(90.001 * deg, 0, 0, {1, 1, 1})), 0);
+  EXPECT_EQ(first_limit_violation(s, params(0, 0, 0.5001, {1, 1, 1})), 2);
+  EXPECT_EQ(first_limit_violation(s, params(0, 5, -0.1, {1, 1, 1})), 2);  // J2 has no limits
+  EXPECT_EQ(first_limit_violation(s, params(std::numeric_limits<double>::quiet_NaN(), 0, 0, {1, 1, 1})), 0);
+}
+
+TEST(Kinematics, RigidUnlessScaled) {
+  testing::TempDir dir;
+  const Scene s = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
+  EXPECT_TRUE(is_rigid(part_transform(s, s.find_part("tip"), params(0.3, 1.2, 0.1, {1, 1, 1}))));
+  EXPECT_FALSE(is_rigid(part_transform(s, s.find_part("tip"), params(0.3, 1.2, 0.1, {1, 1.01, 1}))));
+  Affine mirror = Affine::Identity();
+  mirror.linear().diagonal() << 1, 1, -1;
+  EXPECT_FALSE(is_rigid(mirror));
+}
+
+}  // namespace
+}  // namespace plancheck

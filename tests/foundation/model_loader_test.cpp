@@ -1,0 +1,623 @@
+// SPDX-License-Identifier: MIT
+// load_model on real files: expected names, hierarchy and triangle counts come
+// from reading the files independently (a 3ds chunk walker, OBJ/STL/PLY/glTF/
+// Collada counts), never from the loader's own output.
+#include "src/model_loader.h"
+
+#include "tests/foundation/fixtures.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace plancheck {
+namespace {
+
+using testing::kAssimpModels;
+
+std::vector<unsigned char> read_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// What a 3ds file says about itself, read chunk by chunk.
+struct Tds {
+  struct Object {
+    std::string name;
+    std::vector<Vec3> points;                   // 0x4110
+    std::vector<std::array<int, 3>> faces;      // 0x4120
+  };
+  struct KeyNode {
+    std::string name;  // 0xB010 name
+    int id = -1;       // 0xB030
+    int parent = -1;   // 0xB010 parent index (0xFFFF -> -1)
+  };
+  std::vector<Object> objects;  // trimesh objects, file order
+  std::vector<KeyNode> key_nodes;
+  bool has_keyframer = false;
+};
+
+Tds read_tds(const std::filesystem::path& file) {
+  const std::vector<unsigned char> b = read_bytes(file);
+  Tds out;
+  auto u16 = [&](std::size_t at) { return static_cast<unsigned>(b.at(at) | (b.at(at + 1) << 8)); };
+  auto u32 = [&](std::size_t at) { return static_cast<std::size_t>(u16(at)) | (static_cast<std::size_t>(u16(at + 2)) << 16); };
+  auto f32 = [&](std::size_t at) {
+    std::uint32_t bits = static_cast<std::uint32_t>(u32(at));
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return static_cast<double>(f);
+  };
+  auto cstring = [&](std::size_t at, std::size_t& after) {
+    std::string s;
+    while (b.at(at) != 0) s += static_cast<char>(b[at++]);
+    after = at + 1;
+    return s;
+  };
+  std::function<void(std::size_t, std::size_t, Tds::Object*, Tds::KeyNode*)> walk =
+      [&](std::size_t at, std::size_t end, Tds::Object* obj, Tds::KeyNode* node) {
+        while (at + 6 <= end) {
+          const unsigned id = u16(at);
+          const std::size_t len = u32(at + 2);
+          ASSERT_GE(len, 6u);
+          ASSERT_LE(at + len, end);
+          const std::size_t body = at + 6;
+          switch (id) {
+            case 0x4D4D: case 0x3D3D: walk(body, at + len, nullptr, nullptr); break;
+            case 0x4000: {
+              std::size_t after;
+              Tds::Object o;
+              o.name = cstring(body, after);
+              walk(after, at + len, &o, nullptr);
+              if (!o.faces.empty() || !o.points.empty()) out.objects.push_back(o);
+              break;
+            }
+            case 0x4100: walk(body, at + len, obj, nullptr); break;
+            case 0x4110: {
+              const unsigned n = u16(body);
+              for (unsigned i = 0; i < n; ++i)
+                obj->points.emplace_back(f32(body + 2 + 12 * i), f32(body + 6 + 12 * i), f32(body + 10 + 12 * i));
+              break;
+            }
+            case 0x4120: {
+              const unsigned n = u16(body);
+              for (unsigned i = 0; i < n; ++i)
+                obj->faces.push_back({static_cast<int>(u16(body + 2 + 8 * i)), static_cast<int>(u16(body + 4 + 8 * i)),
+                                      static_cast<int>(u16(body + 6 + 8 * i))});
+              break;
+            }
+            case 0xB000: out.has_keyframer = true; walk(body, at + len, nullptr, nullptr); break;
+            case 0xB001: case 0xB002: case 0xB003: case 0xB004: case 0xB005: case 0xB006: case 0xB007: {
+              Tds::KeyNode k;
+              walk(body, at + len, nullptr, &k);
+              out.key_nodes.push_back(k);
+              break;
+            }
+            case 0xB010: {
+              std::size_t after;
+              node->name = cstring(body, after);
+              const unsigned parent = u16(after + 4);
+              node->parent = parent == 0xFFFF ? -1 : static_cast<int>(parent);
+              break;
+            }
+            case 0xB030: node->id = static_cast<int>(u16(body)); break;
+            default: break;
+          }
+          at += len;
+        }
+      };
+  walk(0, b.size(), nullptr, nullptr);
+  return out;
+}
+
+const Node& node_named(const Scene& s, const std::string& name) {
+  for (const Node& n : s.nodes)
+    if (n.name == name) return n;
+  throw std::runtime_error("no node " + name);
+}
+
+TEST(ModelLoader3ds, FlatFileWithoutKeyframerNamesPartsAfterObjects) {
+  const auto file = kAssimpModels / "3DS/fels.3ds";
+  const Tds tds = read_tds(file);
+  ASSERT_FALSE(tds.has_keyframer);
+  ASSERT_EQ(tds.objects.size(), 1u);
+  Scene s;
+  load_model(file, 1.0, s);
+  ASSERT_EQ(s.parts.size(), tds.objects.size());
+  const Part& p = s.parts[0];
+  EXPECT_EQ(p.name, tds.objects[0].name);
+  EXPECT_EQ(p.mesh.triangles.size(), tds.objects[0].faces.size());
+  EXPECT_EQ(p.mesh.vertices.size(), tds.objects[0].points.size());  // shared as in the file
+  // A flat list: the part hangs directly under the root.
+  EXPECT_EQ(s.nodes[p.node].parent, 0);
+  EXPECT_EQ(s.nodes[p.node].path, "/" + s.nodes[0].name + "/" + p.name);
+  // Without a keyframer the vertices are the file's own points, in the
+  // file's own (z up) frame: triangle t is face t of the object.
+  const Tds::Object& o = tds.objects[0];
+  double worst = 0;
+  for (std::size_t t = 0; t < o.faces.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      worst = std::max(worst, (p.mesh.vertices[p.mesh.triangles[t][k]] - o.points[o.faces[t][k]]).norm());
+  EXPECT_LT(worst, 1e-4);
+}
+
+TEST(ModelLoader3ds, KeyframerHierarchyGivesParentLinks) {
+  const auto file = kAssimpModels / "3DS/CameraRollAnimWithChildObject.3ds";
+  const Tds tds = read_tds(file);
+  ASSERT_TRUE(tds.has_keyframer);
+  Scene s;
+  load_model(file, 1.0, s);
+  ASSERT_EQ(s.parts.size(), tds.objects.size());
+  for (const Tds::Object& o : tds.objects) {
+    const int p = s.find_part(o.name);
+    ASSERT_GE(p, 0) << o.name;
+    EXPECT_EQ(s.parts[p].mesh.triangles.size(), o.faces.size()) << o.name;
+  }
+  // Each keyframer node's parent (by node id) must be its parent in the part tree.
+  int linked = 0;
+  for (const Tds::KeyNode& k : tds.key_nodes) {
+    const Node& n = node_named(s, k.name);
+    if (k.parent < 0) {
+      EXPECT_EQ(n.parent, 0) << k.name;
+      continue;
+    }
+    std::string parent_name;
+    for (const Tds::KeyNode& q : tds.key_nodes)
+      if (q.id == k.parent) parent_name = q.name;
+    ASSERT_FALSE(parent_name.empty());
+    ASSERT_GE(n.parent, 0);
+    EXPECT_EQ(s.nodes[n.parent].name, parent_name) << k.name;
+    EXPECT_EQ(n.path, "/" + s.nodes[0].name + "/" + parent_name + "/" + k.name);
+    ++linked;
+  }
+  EXPECT_GE(linked, 1);  // the file has a parent link (Box02 under Camera01)
+  EXPECT_EQ(s.nodes[s.parts[s.find_part("Box02")].node].path, "/" + s.nodes[0].name + "/Camera01/Box02");
+}
+
+// A triangle as its three corners, sorted and rounded: compares triangles of
+// two sources regardless of vertex order and float noise.
+std::vector<double> triangle_key(Vec3 a, Vec3 b, Vec3 c, double unit = 1.0) {
+  std::vector<Vec3> v = {a / unit, b / unit, c / unit};
+  std::sort(v.begin(), v.end(), [](const Vec3& p, const Vec3& q) {
+    return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+  });
+  std::vector<double> k;
+  for (const Vec3& p : v)
+    for (int i = 0; i < 3; ++i) k.push_back(std::round(p[i] * 1e3) / 1e3);
+  return k;
+}
+
+TEST(ModelLoader3ds, EveryObjectIsWhereItWasDrawn) {
+  // The reference pose of a 3ds part is the editor section's points, whatever
+  // the keyframer says at frame 0 (RotatingCube.3DS is animated; Box02 of
+  // CameraRollAnimWithChildObject hangs under a camera).
+  for (const char* name : {"fels.3ds", "CameraRollAnimWithChildObject.3ds", "test1.3ds", "cubes_with_alpha.3DS",
+                           "RotatingCube.3DS", "CameraRollAnim.3ds", "TargetCameraAnim.3ds"}) {
+    const auto file = kAssimpModels / "3DS" / name;
+    const Tds tds = read_tds(file);
+    Scene s;
+    load_model(file, 1.0, s);
+    EXPECT_TRUE(s.warnings.empty()) << name << ": " << (s.warnings.empty() ? "" : s.warnings[0]);
+    for (const Tds::Object& o : tds.objects) {
+      const int p = s.find_part(o.name);
+      ASSERT_GE(p, 0) << name << ": " << o.name;
+      std::multiset<std::vector<double>> expected, loaded;
+      for (const auto& f : o.faces) expected.insert(triangle_key(o.points[f[0]], o.points[f[1]], o.points[f[2]]));
+      const Mesh& m = s.parts[p].mesh;
+      for (const Tri& t : m.triangles) loaded.insert(triangle_key(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]));
+      EXPECT_EQ(loaded, expected) << name << ": " << o.name;
+    }
+  }
+}
+
+TEST(ModelLoader3ds, EveryTestModelHasOnePartPerObject) {
+  for (const char* name : {"test1.3ds", "cubes_with_alpha.3DS", "RotatingCube.3DS", "CameraRollAnim.3ds"}) {
+    const auto file = kAssimpModels / "3DS" / name;
+    const Tds tds = read_tds(file);
+    Scene s;
+    load_model(file, 1.0, s);
+    ASSERT_EQ(s.parts.size(), tds.objects.size()) << name;
+    for (const Tds::Object& o : tds.objects) {
+      const int p = s.find_part(o.name);
+      ASSERT_GE(p, 0) << name << ": " << o.name;
+      EXPECT_EQ(s.parts[p].mesh.triangles.size(), o.faces.size()) << name << ": " << o.name;
+    }
+  }
+}
+
+// A minimal 3ds writer (no keyframer): objects with faces split between two
+// materials, which assimp turns into one mesh per material.
+class TdsWriter {
+ public:
+  void material(const std::string& name) { materials_.push_back(name); }
+  void object(const std::string& name, const std::vector<Vec3>& points, const std::vector<std::array<int, 3>>& faces,
+              const std::vector<int>& face_material) {
+    objects_.push_back({name, points, faces, face_material});
+  }
+  void write(const std::filesystem::path& file) const {
+    std::string editor;
+    for (const std::string& m : materials_) editor += chunk(0xAFFF, chunk(0xA000, m + '\0'));
+    for (const Obj& o : objects_) {
+      std::string points = u16(o.points.size());
+      for (const Vec3& p : o.points) points += f32(p.x()) + f32(p.y()) + f32(p.z());
+      std::string faces = u16(o.faces.size());
+      for (const auto& f : o.faces) faces += u16(f[0]) + u16(f[1]) + u16(f[2]) + u16(0);
+      for (std::size_t m = 0; m < materials_.size(); ++m) {
+        std::string list;
+        std::size_t n = 0;
+        for (std::size_t f = 0; f < o.faces.size(); ++f)
+          if (o.face_material[f] == static_cast<int>(m)) {
+            list += u16(f);
+            ++n;
+          }
+        if (n > 0) faces += chunk(0x4130, materials_[m] + '\0' + u16(n) + list);
+      }
+      editor += chunk(0x4000, o.name + '\0' + chunk(0x4100, chunk(0x4110, points) + chunk(0x4120, faces)));
+    }
+    std::ofstream(file, std::ios::binary) << chunk(0x4D4D, chunk(0x0002, u32(3)) + chunk(0x3D3D, editor));
+  }
+
+ private:
+  struct Obj {
+    std::string name;
+    std::vector<Vec3> points;
+    std::vector<std::array<int, 3>> faces;
+    std::vector<int> face_material;
+  };
+  static std::string u16(std::size_t v) { return {static_cast<char>(v & 255), static_cast<char>((v >> 8) & 255)}; }
+  static std::string u32(std::size_t v) { return u16(v & 0xFFFF) + u16(v >> 16); }
+  static std::string f32(double d) {
+    const float f = static_cast<float>(d);
+    std::string s(4, '\0');
+    std::memcpy(s.data(), &f, 4);
+    return s;
+  }
+  static std::string chunk(unsigned id, const std::string& body) { return u16(id) + u32(body.size() + 6) + body; }
+  std::vector<std::string> materials_;
+  std::vector<Obj> objects_;
+};
+
+TEST(ModelLoader3ds, FlatObjectSplitByMaterialIsOnePart) {
+  testing::TempDir dir;
+  TdsWriter w;
+  w.material("Red");
+  w.material("Grey");
+  const std::vector<Vec3> quad = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0, 0, 3}};
+  // Scoop: faces 0 and 2 grey, face 1 red -> two meshes (red, grey) -> one part.
+  w.object("Scoop", quad, {{0, 1, 2}, {0, 2, 3}, {0, 1, 4}}, {1, 0, 1});
+  w.object("Arm", {{5, 0, 0}, {6, 0, 0}, {5, 0, 2}}, {{0, 1, 2}}, {0});
+  const auto file = dir / "split.3ds";
+  w.write(file);
+  Scene s;
+  load_model(file, 0.01, s);
+  ASSERT_EQ(s.parts.size(), 2u);
+  const int scoop = s.find_part("Scoop");
+  const int arm = s.find_part("Arm");
+  ASSERT_GE(scoop, 0);
+  ASSERT_GE(arm, 0);
+  EXPECT_EQ(s.parts[scoop].mesh.triangles.size(), 3u);
+  EXPECT_EQ(s.parts[arm].mesh.triangles.size(), 1u);
+  EXPECT_EQ(s.parts[scoop].mesh.vertices.size(), quad.size());  // both material meshes share the points
+  EXPECT_EQ(s.nodes[s.parts[scoop].node].path, "/<3DSDummyRoot>/Scoop");
+  // z stays up (the file's frame), times the length scale: the Scoop's top
+  // vertex (0, 0, 3) is at z = 0.03 m, none of it is turned into y.
+  double top = 0, max_y = 0;
+  for (const Vec3& v : s.parts[scoop].mesh.vertices) {
+    top = std::max(top, v.z());
+    max_y = std::max(max_y, v.y());
+  }
+  EXPECT_NEAR(top, 0.03, 1e-9);
+  EXPECT_NEAR(max_y, 0.01, 1e-9);
+  // Every triangle of the part is one of the file's faces (as a set of points).
+  std::multiset<std::vector<double>> expected, loaded;
+  for (const auto& f : std::vector<std::array<int, 3>>{{0, 1, 2}, {0, 2, 3}, {0, 1, 4}})
+    expected.insert(triangle_key(quad[f[0]], quad[f[1]], quad[f[2]]));
+  const Mesh& m = s.parts[scoop].mesh;
+  for (const Tri& t : m.triangles)
+    loaded.insert(triangle_key(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]], 0.01));
+  EXPECT_EQ(loaded, expected);
+}
+
+TEST(ModelLoader, LengthScaleMultipliesVertices) {
+  const auto file = kAssimpModels / "3DS/fels.3ds";
+  Scene m, mm;
+  load_model(file, 1.0, m);
+  load_model(file, 0.001, mm);
+  ASSERT_EQ(m.parts[0].mesh.vertices.size(), mm.parts[0].mesh.vertices.size());
+  for (std::size_t i = 0; i < m.parts[0].mesh.vertices.size(); ++i)
+    EXPECT_LT((m.parts[0].mesh.vertices[i] * 0.001 - mm.parts[0].mesh.vertices[i]).norm(), 1e-12);
+}
+
+std::size_t total_triangles(const Scene& s) {
+  std::size_t n = 0;
+  for (const Part& p : s.parts) n += p.mesh.triangles.size();
+  return n;
+}
+
+// Triangles of an OBJ file counted from its face lines: an n-gon is n - 2 triangles.
+std::size_t obj_triangles(const std::filesystem::path& file) {
+  std::istringstream in(read_text(file));
+  std::string line;
+  std::size_t n = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("f ", 0) != 0) continue;
+    std::istringstream f(line.substr(2));
+    std::string v;
+    std::size_t corners = 0;
+    while (f >> v) ++corners;
+    if (corners >= 3) n += corners - 2;
+  }
+  return n;
+}
+
+TEST(ModelLoaderFormats, ObjObjectsBecomeParts) {
+  const auto file = kAssimpModels / "OBJ/spider.obj";
+  Scene s;
+  load_model(file, 1.0, s);
+  EXPECT_EQ(total_triangles(s), obj_triangles(file));
+  std::size_t objects = 0;
+  std::istringstream in(read_text(file));
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("g ", 0) == 0 || line.rfind("o ", 0) == 0) ++objects;
+  EXPECT_EQ(s.parts.size(), objects);
+  EXPECT_GE(s.find_part("HLeib01"), 0);
+}
+
+TEST(ModelLoaderFormats, ObjLinesAndPointsAreIgnoredWithAWarning) {
+  Scene s;
+  load_model(kAssimpModels / "OBJ/testmixed.obj", 1.0, s);
+  ASSERT_EQ(s.parts.size(), 1u);
+  EXPECT_EQ(s.parts[0].mesh.triangles.size(), 12u);
+  ASSERT_FALSE(s.warnings.empty());
+  EXPECT_NE(s.warnings[0].find("ignored"), std::string::npos);
+}
+
+TEST(ModelLoaderFormats, AsciiAndBinaryStl) {
+  {
+    const auto file = kAssimpModels / "STL/Spider_ascii.stl";
+    const std::string text = read_text(file);
+    std::size_t facets = 0;
+    for (std::size_t at = text.find("facet normal"); at != std::string::npos; at = text.find("facet normal", at + 1))
+      ++facets;
+    Scene s;
+    load_model(file, 1.0, s);
+    EXPECT_EQ(total_triangles(s), facets);
+  }
+  {
+    const auto file = kAssimpModels / "STL/Wuson.stl";
+    const std::vector<unsigned char> b = read_bytes(file);
+    const std::size_t facets = b[80] | (b[81] << 8) | (b[82] << 16) | (static_cast<std::size_t>(b[83]) << 24);
+    Scene s;
+    load_model(file, 1.0, s);
+    ASSERT_EQ(s.parts.size(), 1u);
+    EXPECT_EQ(total_triangles(s), facets);
+    EXPECT_EQ(s.parts[0].name, "Wuson");  // unnamed: the file's stem
+  }
+}
+
+TEST(ModelLoaderFormats, RealRobotMeshesKr5) {
+  // dart-doc's KUKA KR5 links: binary STL, 50 bytes per facet after an 84-byte header.
+  const std::filesystem::path folder = "/usr/share/doc/dart/data/urdf/KR5/meshes";
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().extension() != ".STL") continue;
+    const std::size_t facets = (std::filesystem::file_size(entry.path()) - 84) / 50;
+    Scene s;
+    load_model(entry.path(), 0.001, s);
+    ASSERT_EQ(s.parts.size(), 1u) << entry.path();
+    EXPECT_EQ(s.parts[0].mesh.triangles.size(), facets) << entry.path();
+    EXPECT_EQ(s.parts[0].name, entry.path().stem().string());
+    ++files;
+  }
+  EXPECT_EQ(files, 7);
+}
+
+TEST(ModelLoaderFormats, PlyQuadsAreTriangulated) {
+  const auto file = kAssimpModels / "PLY/cube.ply";
+  // Count from the file: every face line "n i0 ... in-1" gives n - 2 triangles.
+  std::istringstream in(read_text(file));
+  std::string line;
+  bool body = false;
+  std::size_t vertices_left = 0, expected = 0;
+  while (std::getline(in, line)) {
+    std::istringstream l(line);
+    std::string word;
+    l >> word;
+    if (!body) {
+      if (word == "element") {
+        std::string what;
+        l >> what;
+        if (what == "vertex") l >> vertices_left;
+      }
+      if (word == "end_header") body = true;
+      continue;
+    }
+    if (word.empty()) continue;
+    if (vertices_left > 0) {
+      --vertices_left;
+      continue;
+    }
+    expected += std::stoul(word) - 2;
+  }
+  ASSERT_EQ(expected, 12u);
+  Scene s;
+  load_model(file, 1.0, s);
+  ASSERT_EQ(s.parts.size(), 1u);
+  EXPECT_EQ(total_triangles(s), expected);
+  EXPECT_EQ(s.parts[0].name, "cube");
+}
+
+TEST(ModelLoaderFormats, GltfAndGlb) {
+  using nlohmann::json;
+  auto indexed_triangles = [](const json& j) {
+    std::size_t n = 0;
+    for (const json& node : j["nodes"]) {
+      if (!node.contains("mesh")) continue;
+      for (const json& prim : j["meshes"][node["mesh"].get<int>()]["primitives"])
+        n += j["accessors"][prim["indices"].get<int>()]["count"].get<std::size_t>() / 3;
+    }
+    return n;
+  };
+  {
+    const auto file = kAssimpModels / "glTF2/BoxTextured-glTF/BoxTextured.gltf";
+    Scene s;
+    load_model(file, 1.0, s);
+    EXPECT_EQ(total_triangles(s), indexed_triangles(json::parse(read_text(file))));
+    EXPECT_EQ(s.parts.size(), 1u);
+  }
+  {
+    const auto file = kAssimpModels / "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+    const std::vector<unsigned char> b = read_bytes(file);
+    const std::size_t json_length = b[12] | (b[13] << 8) | (b[14] << 16) | (static_cast<std::size_t>(b[15]) << 24);
+    const json j = json::parse(std::string(b.begin() + 20, b.begin() + 20 + static_cast<long>(json_length)));
+    Scene s;
+    load_model(file, 1.0, s);
+    EXPECT_EQ(total_triangles(s), indexed_triangles(j));
+    EXPECT_EQ(s.parts.size(), 1u);
+  }
+}
+
+TEST(ModelLoaderFormats, ColladaTriangles) {
+  const auto file = kAssimpModels / "Collada/duck_triangulate.dae";
+  const std::string text = read_text(file);
+  std::size_t expected = 0;
+  const std::regex count_re("<triangles[^>]*count=\"([0-9]+)\"");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), count_re); it != std::sregex_iterator(); ++it)
+    expected += std::stoul((*it)[1]);
+  Scene s;
+  load_model(file, 1.0, s);
+  EXPECT_EQ(total_triangles(s), expected);
+  EXPECT_GE(s.find_part("LOD3sp"), 0);
+}
+
+TEST(ModelLoaderFormats, GltfNodeTranslationsAreApplied) {
+  testing::TempDir dir;
+  const auto file = testing::write_box_gltf(
+      dir / "tree.gltf",
+      {{.name = "world"},
+       {.name = "a", .parent = 0, .translation = {1, 0, 0}, .box = true, .lo = {0, 0, 0}, .hi = {1, 1, 1}},
+       {.name = "b", .parent = 1, .translation = {0, 2, 0}, .box = true, .lo = {0, 0, 0}, .hi = {0.5, 0.5, 0.5}}});
+  Scene s;
+  load_model(file, 1.0, s);
+  ASSERT_EQ(s.parts.size(), 2u);
+  const Part& b = s.parts[s.find_part("b")];
+  EXPECT_EQ(s.nodes[b.node].path, "/world/a/b");
+  Eigen::AlignedBox3d box;
+  for (const Vec3& v : b.mesh.vertices) box.extend(v);
+  EXPECT_LT((box.min() - Vec3(1, 2, 0)).norm(), 1e-12);  // a's (1,0,0) then b's (0,2,0)
+  EXPECT_LT((box.max() - Vec3(1.5, 2.5, 0.5)).norm(), 1e-12);
+  EXPECT_EQ(b.mesh.triangles.size(), 12u);
+}
+
+TEST(ModelLoaderFormats, GeneratedPerMeshChildIsFoldedIntoItsObject) {
+  testing::TempDir dir;
+  const auto file = testing::write_box_gltf(
+      dir / "fold.gltf",
+      {{.name = "world"},
+       {.name = "Object", .parent = 0, .translation = {5, 0, 0}},
+       {.name = "Object_3", .parent = 1, .box = true},
+       {.name = "Object_4", .parent = 1, .box = true, .lo = {0, 0, 2}, .hi = {1, 1, 3}},
+       // Not generated: the parent has its own mesh, or the child its own place.
+       {.name = "Leg", .parent = 0, .box = true},
+       {.name = "Leg_1", .parent = 4, .box = true},
+       {.name = "Arm", .parent = 0},
+       {.name = "Arm_2", .parent = 6, .translation = {0, 1, 0}, .box = true}});
+  Scene s;
+  load_model(file, 1.0, s);
+  ASSERT_EQ(s.parts.size(), 4u);
+  const int object = s.find_part("Object");
+  ASSERT_GE(object, 0);
+  EXPECT_EQ(s.parts[object].mesh.triangles.size(), 24u);  // both children, in file order
+  EXPECT_NEAR(s.parts[object].mesh.vertices.front().x(), 5.0, 1e-12);
+  EXPECT_NEAR(s.parts[object].mesh.vertices.back().z(), 3.0, 1e-12);
+  for (const Node& n : s.nodes) EXPECT_TRUE(n.name != "Object_3" && n.name != "Object_4") << n.name;
+  EXPECT_GE(s.find_part("Leg"), 0);
+  EXPECT_GE(s.find_part("Leg_1"), 0);
+  EXPECT_GE(s.find_part("Arm_2"), 0);
+  EXPECT_LT(s.find_part("Arm"), 0);
+}
+
+// Errors.
+
+TEST(ModelLoaderErrors, MissingAndEmptyFiles) {
+  testing::TempDir dir;
+  Scene s;
+  testing::expect_input_error([&] { load_model(dir / "nope.obj", 1.0, s); }, {"nope.obj", "cannot open"});
+  const auto empty = dir.write("empty.stl", "");
+  testing::expect_input_error([&] { load_model(empty, 1.0, s); }, {"empty.stl", "empty"});
+  const auto garbage = dir.write("garbage.obj", "this is not a model\n");
+  testing::expect_input_error([&] { load_model(garbage, 1.0, s); }, {"garbage.obj"});
+}
+
+TEST(ModelLoaderErrors, EveryInvalidTestModelIsAnInputError) {
+  int checked = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(kAssimpModels / "invalid")) {
+    const std::string name = entry.path().filename().string();
+    Scene s;
+    if (name == "malformed2.obj") {
+      // Its only fault is a missing material, which geometry does not need:
+      // the 5 well-formed quads load as 10 triangles.
+      load_model(entry.path(), 1.0, s);
+      EXPECT_EQ(total_triangles(s), 10u);
+      continue;
+    }
+    testing::expect_input_error([&] { load_model(entry.path(), 1.0, s); }, {name});
+    ++checked;
+  }
+  EXPECT_GE(checked, 14);
+}
+
+TEST(ModelLoaderErrors, MalformedIndicesNameAssimpsReason) {
+  Scene s;
+  testing::expect_input_error([&] { load_model(kAssimpModels / "invalid/malformed.obj", 1.0, s); },
+                              {"malformed.obj", "Invalid face index"});
+}
+
+TEST(ModelLoaderErrors, OffHeaderBeyondTheFileIsRefusedFast) {
+  Scene s;
+  testing::expect_input_error([&] { load_model(kAssimpModels / "invalid/OutOfMemory.off", 1.0, s); },
+                              {"OutOfMemory.off", "OFF header claims 353535235358 vertices"});
+  // The guard must not refuse honest OFF files.
+  for (const char* name : {"Cube.off", "Wuson.off"}) {
+    Scene ok;
+    load_model(kAssimpModels / "OFF" / name, 1.0, ok);
+    EXPECT_EQ(ok.parts.size(), 1u) << name;
+  }
+}
+
+TEST(ModelLoaderErrors, NonFiniteVertexNamesThePart) {
+  testing::TempDir dir;
+  const auto file = dir.write("inf.obj", "o Good\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"
+                                         "o Bad\nv 0 0 0\nv 1e999 0 0\nv 0 1 0\nf 4 5 6\n");
+  Scene s;
+  testing::expect_input_error([&] { load_model(file, 1.0, s); }, {"inf.obj", "Bad", "non-finite"});
+}
+
+TEST(ModelLoaderErrors, DuplicatePartNamesNameBothPaths) {
+  testing::TempDir dir;
+  const auto file = testing::write_box_gltf(dir / "dup.gltf", {{.name = "world"},
+                                                                {.name = "arm", .parent = 0},
+                                                                {.name = "Link", .parent = 1, .box = true},
+                                                                {.name = "Link", .parent = 0, .box = true}});
+  Scene s;
+  testing::expect_input_error([&] { load_model(file, 1.0, s); }, {"dup.gltf", "Link", "/world/arm/Link", "/world/Link"});
+}
+
+}  // namespace
+}  // namespace plancheck

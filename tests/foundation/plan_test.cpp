@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+// Plan CSV: comments and keys, units, missing columns, line endings, and every
+// error with file:line(:column) in the message.
+#include "src/plan.h"
+
+#include "src/scene_loader.h"
+#include "tests/foundation/fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace plancheck {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+class PlanTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    testing::write_arm_model(dir_ / "arm.gltf", 1000.0);
+    scene_ = load_scene(dir_.write("s.json", R"({"format": "plancheck-scene/1", "model": "arm.gltf",
+        "length_unit": "mm", "angle_unit": "deg", "actions": [
+        {"name": "J1", "node": "arm1", "type": "rotate", "pivot": [0, 0, 0], "axis": [0, 0, 1]},
+        {"name": "J2", "node": "arm2", "type": "rotate", "pivot": [1000, 0, 0], "axis": [0, 1, 0]},
+        {"name": "Slide", "node": "tip", "type": "translate"},
+        {"name": "Grow", "node": "tip", "type": "scale", "fixed_point": [2000, 0, 0]}]})"));
+  }
+
+  void expect_error(const std::string& name, const std::string& text, std::initializer_list<std::string> parts) {
+    const auto file = dir_.write(name, text);
+    testing::expect_input_error([&] { load_plan(scene_, file); }, parts);
+  }
+
+  testing::TempDir dir_;
+  Scene scene_;
+};
+
+TEST_F(PlanTest, ReadsKeysUnitsAndMissingColumns) {
+  const auto file = dir_.write("p.csv",
+                               "# a plan for the tests\n"
+                               "# name: plan03\n"
+                               "# target: 3100, 0.00, 20\n"
+                               "# tolerance: 20\n"
+                               "\n"
+                               "time, J2 ,J1,Slide.z,Grow.y\n"
+                               "0,10,-20,5,1\n"
+                               " 0.5 , 10.5,-20.25,  +6 ,2.5\n");
+  const Plan p = load_plan(scene_, file);
+  EXPECT_EQ(p.name, "plan03");
+  EXPECT_EQ(p.file, file);
+  ASSERT_TRUE(p.target.has_value());
+  EXPECT_TRUE(p.target->isApprox(Vec3(3.1, 0, 0.02)));
+  EXPECT_DOUBLE_EQ(p.tolerance, 0.02);
+  EXPECT_EQ(p.times, (std::vector<double>{0, 0.5}));
+  EXPECT_EQ(p.lines, (std::vector<long>{7, 8}));
+  ASSERT_EQ(p.states.size(), 2u);
+  // Order: J1, J2, Slide.x/y/z, Grow.x/y/z; missing ones keep reference values.
+  const double deg = kPi / 180;
+  const std::vector<double> s1 = {-20.25 * deg, 10.5 * deg, 0, 0, 0.006, 1, 2.5, 1};
+  ASSERT_EQ(p.states[1].size(), s1.size());
+  for (std::size_t i = 0; i < s1.size(); ++i) EXPECT_NEAR(p.states[1][i], s1[i], 1e-15) << i;
+  EXPECT_NEAR(p.states[0][0], -20 * deg, 1e-15);
+}
+
+TEST_F(PlanTest, DefaultsCrlfAndTrailingBlankLines) {
+  const auto file = dir_.write("plan07.csv", "# target: 1000, 0, 0\r\nJ1\r\n1\r\n2\r\n\r\n\r\n");
+  const Plan p = load_plan(scene_, file);
+  EXPECT_EQ(p.name, "plan07");
+  EXPECT_TRUE(p.times.empty());
+  ASSERT_EQ(p.states.size(), 2u);
+  EXPECT_NEAR(p.states[1][0], 2 * kPi / 180, 1e-15);
+  EXPECT_DOUBLE_EQ(p.tolerance, 0.01 * 0.001);  // default: 0.01 length units
+  const Plan no_newline = load_plan(scene_, dir_.write("q.csv", "J1,J2\n1,2"));
+  EXPECT_EQ(no_newline.states.size(), 1u);
+  EXPECT_EQ(no_newline.tolerance, 0.0);  // no target: no tolerance
+  EXPECT_EQ(no_newline.name, "q");
+  EXPECT_EQ(load_plan(scene_, dir_.write("r.plan.txt", "J1\n0\n")).name, "r.plan.txt");
+}
+
+TEST_F(PlanTest, HeaderErrors) {
+  expect_error("unknown.csv", "# c\nJ1,J9\n1,2\n", {"unknown.csv:2:2: unknown column 'J9'"});
+  expect_error("repeat.csv", "J1,J2,J1\n1,2,3\n", {"repeat.csv:1:3: column 'J1' given twice"});
+  expect_error("time.csv", "J1,time\n1,2\n", {"time.csv:1:2: column 'time' must be the first column"});
+  expect_error("slide.csv", "Slide\n1\n", {"slide.csv:1:1: unknown column 'Slide'"});  // needs .x/.y/.z
+  expect_error("empty.csv", "", {"empty.csv:1: no header line"});
+  expect_error("comments.csv", "# name: x\n\n", {"comments.csv:2: no header line"});
+  expect_error("nostates.csv", "# c\nJ1,J2\n\n", {"nostates.csv:2: the plan has no states"});
+  expect_error("target.csv", "# target: 1, 2\nJ1\n0\n", {"target.csv:1: target: expected three finite numbers"});
+  expect_error("tol.csv", "# tolerance: -1\nJ1\n0\n", {"tol.csv:1: tolerance"});
+  testing::expect_input_error([&] { load_plan(scene_, dir_ / "absent.csv"); }, {"absent.csv", "cannot open"});
+}
+
+TEST_F(PlanTest, RowErrors) {
+  expect_error("count.csv", "J1,J2\n1,2\n1,2,3\n", {"count.csv:3: expected 2 fields, found 3"});
+  expect_error("few.csv", "J1,J2\n1\n", {"few.csv:2: expected 2 fields, found 1"});
+  expect_error("text.csv", "J1,J2\n1,abc\n", {"text.csv:2:2: column 'J2': 'abc' is not a finite number"});
+  expect_error("garbage.csv", "J1,J2\n1.5x,2\n", {"garbage.csv:2:1: column 'J1': '1.5x' is not a finite number"});
+  expect_error("inf.csv", "J1,J2\n1,inf\n", {"inf.csv:2:2", "'inf' is not a finite number"});
+  expect_error("nan.csv", "time,J1\n0,1\n1,nan\n", {"nan.csv:3:2", "'nan' is not a finite number"});
+  expect_error("huge.csv", "J1\n1e999\n", {"huge.csv:2:1", "not a finite number"});
+  expect_error("blank.csv", "J1,J2\n1,\n", {"blank.csv:2:2", "'' is not a finite number"});
+  expect_error("scale.csv", "Grow.x\n0\n", {"scale.csv:2:1: column 'Grow.x': scale factor must be positive"});
+  expect_error("late.csv", "J1\n1\n# note\n", {"late.csv:3:1"});  // comments only before the header
+}
+
+}  // namespace
+}  // namespace plancheck
