@@ -254,6 +254,13 @@ inline bool tri_tri_3d(const Simplex& ps, const Simplex& qs) noexcept {
 inline bool tri_tri_overlap(const double* p0, const double* p1, const double* p2,
                             const double* q0, const double* q1, const double* q2) noexcept {
   using namespace tri_overlap_detail;
+  // Early out, valid for any degeneracy: a zero-area triangle gives orient3d
+  // == 0 for every point, so three equal non-zero signs mean a proper plane
+  // with the whole other simplex strictly on one side.
+  const int s0 = orient3d(p0, p1, p2, q0);
+  if (s0 != 0 && s0 == orient3d(p0, p1, p2, q1) && s0 == orient3d(p0, p1, p2, q2)) return false;
+  const int t0 = orient3d(q0, q1, q2, p0);
+  if (t0 != 0 && t0 == orient3d(q0, q1, q2, p1) && t0 == orient3d(q0, q1, q2, p2)) return false;
   const Simplex a = classify(p0, p1, p2);
   const Simplex b = classify(q0, q1, q2);
   const Simplex& hi = a.dim >= b.dim ? a : b;

@@ -1,0 +1,288 @@
+// SPDX-License-Identifier: MIT
+// Pair queries: BVH-vs-BVH traversal in one working frame, exact triangle
+// overlap at the leaves, Ericson triangle distance with box lower bounds.
+//
+// Working frame: a's frame when ta is rigid (b mapped by ta^-1 tb, distances
+// there equal world distances); else b's frame when tb is rigid (roles
+// swapped, results swapped back); else the world frame (both mapped). Only
+// leaf triangles are mapped, never a whole mesh. Collision is decided exactly
+// on the working-frame double coordinates: a's vertices as stored and b's as
+// M v rounded once (identity maps leave coordinates untouched).
+#include "src/collision_model.h"
+
+#include "kernels/box.h"
+#include "kernels/tri_distance.h"
+#include "kernels/tri_tri_overlap.h"
+#include "src/bvh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace plancheck {
+
+CollisionModel::CollisionModel(const Mesh& mesh)
+    : data_(std::make_unique<CollisionModelData>(build_collision_data(mesh))) {}
+CollisionModel::~CollisionModel() = default;
+CollisionModel::CollisionModel(CollisionModel&&) noexcept = default;
+CollisionModel& CollisionModel::operator=(CollisionModel&&) noexcept = default;
+
+std::size_t CollisionModel::triangle_count() const { return data_->triangles.size(); }
+
+std::size_t CollisionModel::memory_bytes() const {
+  return sizeof(CollisionModelData) + data_->bvh.nodes.capacity() * sizeof(BvhNode) +
+         data_->bvh.prim_ids.capacity() * sizeof(std::uint32_t) +
+         data_->triangles.capacity() * sizeof(data_->triangles[0]);
+}
+
+namespace {
+
+// Relative size of the rounding margin: the box and vertex mappings err by a
+// few ulps of |L| |x| + |t|; 1e-12 covers that a thousand times over.
+constexpr double kMarginRel = 1e-12;
+// Orthonormality tolerance for "rigid" (distances preserved to ~1e-13).
+constexpr double kRigidTol = 1e-13;
+
+bool is_rigid(const Affine& t) {
+  const Mat3 l = t.linear();
+  return ((l.transpose() * l - Mat3::Identity()).cwiseAbs().maxCoeff() <= kRigidTol);
+}
+
+AffineMap to_map(const Affine& t) {
+  AffineMap m;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      m.l[3 * r + c] = t.linear()(r, c);
+      m.abs_l[3 * r + c] = std::abs(t.linear()(r, c));
+    }
+    m.t[r] = t.translation()(r);
+  }
+  return m;
+}
+
+// One side of a query: its data, its map into the working frame and the
+// margin that covers rounding of that map.
+struct Side {
+  const CollisionModelData* data = nullptr;
+  bool identity = true;
+  AffineMap map;
+  double margin[3] = {0, 0, 0};
+
+  void set_map(const Affine& t) {
+    identity = t.matrix() == Affine::Identity().matrix();
+    map = to_map(t);
+    for (int r = 0; r < 3; ++r) {
+      double s = std::abs(map.t[r]);
+      // Node boxes are rounded outward to float: allow twice the vertex bound.
+      for (int c = 0; c < 3; ++c) s += map.abs_l[3 * r + c] * 2.0 * data->max_abs[c];
+      margin[r] = identity ? 0.0 : kMarginRel * s + 1e-300;
+    }
+  }
+
+  void box(std::uint32_t node, double* lo, double* hi) const {
+    const BvhNode& n = data->bvh.nodes[node];
+    if (identity)
+      widen_box(n.lo, n.hi, margin, lo, hi);
+    else
+      map_box(map, n.lo, n.hi, margin, lo, hi);
+  }
+
+  // Working-frame coordinates of the triangle in slot s.
+  void triangle(std::uint32_t s, double* out) const {
+    const double* src = data->triangles[s].data();
+    if (identity) {
+      std::copy(src, src + 9, out);
+    } else {
+      for (int v = 0; v < 3; ++v) map.apply(src + 3 * v, out + 3 * v);
+    }
+  }
+};
+
+struct Setup {
+  Side a, b;
+  bool swapped = false;
+  Affine to_world = Affine::Identity();
+};
+
+Setup make_setup(const CollisionModel& ma, const Affine& ta, const CollisionModel& mb,
+                 const Affine& tb) {
+  Setup s;
+  const CollisionModelData* da = &ma.data();
+  const CollisionModelData* db = &mb.data();
+  Affine frame = Affine::Identity();
+  Affine first = ta, second = tb;
+  if (is_rigid(ta)) {
+    frame = ta;
+  } else if (is_rigid(tb)) {
+    s.swapped = true;
+    std::swap(da, db);
+    std::swap(first, second);
+    frame = first;
+  }
+  s.a.data = da;
+  s.b.data = db;
+  if (frame.matrix() == Affine::Identity().matrix()) {
+    s.a.set_map(first);
+    s.b.set_map(second);
+  } else {
+    const Affine inv = frame.inverse();
+    s.a.set_map(Affine::Identity());
+    s.b.set_map(inv * second);
+  }
+  s.to_world = frame;
+  return s;
+}
+
+double box_size(const double* lo, const double* hi) {
+  return (hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]);
+}
+
+struct NodePair {
+  std::uint32_t a, b;
+  double lower2;  // squared distance lower bound (distance queries)
+};
+
+thread_local std::vector<NodePair> t_stack;
+
+}  // namespace
+
+void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+             const CollideRequest& request, CollideResult& result) {
+  result.collide = false;
+  result.triangle_pairs.clear();
+  if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
+  const Setup s = make_setup(a, ta, b, tb);
+  const std::size_t limit = std::max<std::size_t>(1, request.max_triangle_pairs);
+  const auto& na = s.a.data->bvh.nodes;
+  const auto& nb = s.b.data->bvh.nodes;
+  std::vector<NodePair>& stack = t_stack;
+  stack.clear();
+  stack.push_back({0, 0, 0.0});
+  double tri_a[4][9], tri_b[4][9];
+  while (!stack.empty()) {
+    const NodePair p = stack.back();
+    stack.pop_back();
+    double alo[3], ahi[3], blo[3], bhi[3];
+    s.a.box(p.a, alo, ahi);
+    s.b.box(p.b, blo, bhi);
+    if (!boxes_overlap(alo, ahi, blo, bhi)) continue;
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    if (x.is_leaf() && y.is_leaf()) {
+      for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
+      for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
+      for (std::uint32_t i = 0; i < x.count; ++i)
+        for (std::uint32_t j = 0; j < y.count; ++j) {
+          const double* p0 = tri_a[i];
+          const double* q0 = tri_b[j];
+          if (!tri_tri_overlap(p0, p0 + 3, p0 + 6, q0, q0 + 3, q0 + 6)) continue;
+          std::uint32_t ia = s.a.data->bvh.prim_ids[x.index + i];
+          std::uint32_t ib = s.b.data->bvh.prim_ids[y.index + j];
+          if (s.swapped) std::swap(ia, ib);
+          result.collide = true;
+          result.triangle_pairs.emplace_back(ia, ib);
+          if (result.triangle_pairs.size() >= limit) return;
+        }
+      continue;
+    }
+    const bool split_a =
+        !x.is_leaf() && (y.is_leaf() || box_size(alo, ahi) >= box_size(blo, bhi));
+    if (split_a) {
+      stack.push_back({x.index + 1, p.b, 0.0});
+      stack.push_back({x.index, p.b, 0.0});
+    } else {
+      stack.push_back({p.a, y.index + 1, 0.0});
+      stack.push_back({p.a, y.index, 0.0});
+    }
+  }
+}
+
+void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+              const DistanceRequest& request, DistanceResult& result) {
+  result = DistanceResult{};
+  if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
+  const Setup s = make_setup(a, ta, b, tb);
+  const auto& na = s.a.data->bvh.nodes;
+  const auto& nb = s.b.data->bvh.nodes;
+  double best = request.upper_bound;
+  double best2 = best * best;
+  // Prune a node pair only when its lower bound clears the best distance by
+  // more than the rounding of the squared box gaps.
+  constexpr double kShrink = 1.0 - 1e-12;
+  auto lower2 = [&](std::uint32_t ia, std::uint32_t ib, double* sizes) {
+    double alo[3], ahi[3], blo[3], bhi[3];
+    s.a.box(ia, alo, ahi);
+    s.b.box(ib, blo, bhi);
+    if (sizes) {
+      sizes[0] = box_size(alo, ahi);
+      sizes[1] = box_size(blo, bhi);
+    }
+    return box_distance_squared(alo, ahi, blo, bhi) * kShrink;
+  };
+  std::vector<NodePair>& stack = t_stack;
+  stack.clear();
+  stack.push_back({0, 0, lower2(0, 0, nullptr)});
+  bool found = false;
+  std::uint32_t best_sa = 0, best_sb = 0;
+  Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
+  double tri_a[4][9], tri_b[4][9];
+  while (!stack.empty()) {
+    const NodePair p = stack.back();
+    stack.pop_back();
+    if (!(p.lower2 < best2)) continue;
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    if (x.is_leaf() && y.is_leaf()) {
+      for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
+      for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
+      for (std::uint32_t i = 0; i < x.count; ++i)
+        for (std::uint32_t j = 0; j < y.count; ++j) {
+          const TriDistance d = tri_distance(tri_a[i], tri_b[j]);
+          if (!(d.distance < best)) continue;
+          found = true;
+          best = d.distance;
+          best2 = best * best;
+          best_sa = x.index + i;
+          best_sb = y.index + j;
+          best_pa = d.point_p;
+          best_pb = d.point_q;
+          if (best == 0.0) {
+            stack.clear();
+            break;
+          }
+        }
+      continue;
+    }
+    double sizes[2];
+    lower2(p.a, p.b, sizes);
+    const bool split_a = !x.is_leaf() && (y.is_leaf() || sizes[0] >= sizes[1]);
+    NodePair c0, c1;
+    if (split_a) {
+      c0 = {x.index, p.b, lower2(x.index, p.b, nullptr)};
+      c1 = {x.index + 1, p.b, lower2(x.index + 1, p.b, nullptr)};
+    } else {
+      c0 = {p.a, y.index, lower2(p.a, y.index, nullptr)};
+      c1 = {p.a, y.index + 1, lower2(p.a, y.index + 1, nullptr)};
+    }
+    // Closer pair on top of the stack: visited first, it tightens the bound.
+    if (c0.lower2 < c1.lower2) std::swap(c0, c1);
+    if (c0.lower2 < best2) stack.push_back(c0);
+    if (c1.lower2 < best2) stack.push_back(c1);
+  }
+  if (!found) return;
+  result.found = true;
+  result.distance = best;
+  Vec3 pa = s.to_world * best_pa, pb = s.to_world * best_pb;
+  std::uint32_t ia = s.a.data->bvh.prim_ids[best_sa];
+  std::uint32_t ib = s.b.data->bvh.prim_ids[best_sb];
+  if (s.swapped) {
+    std::swap(ia, ib);
+    std::swap(pa, pb);
+  }
+  result.point_a = pa;
+  result.point_b = pb;
+  result.triangle_a = ia;
+  result.triangle_b = ib;
+}
+
+}  // namespace plancheck
