@@ -103,6 +103,24 @@ struct Setup {
   Side a, b;
   bool swapped = false;
   Affine to_world = Affine::Identity();
+  // Second culling frame: a's boxes mapped into b's own frame, against b's
+  // untouched boxes (the other three face axes of the box-vs-box separating
+  // axis test). Used when b's map is rigid, so distances agree there too.
+  bool reverse = false;
+  AffineMap rev;         // working frame of a -> b's frame (b.map^-1 * a.map)
+  double rev_margin_a[3] = {0, 0, 0};
+  double rev_margin_b[3] = {0, 0, 0};
+
+  // Squared lower bound from the reverse frame (0 when not in use).
+  double reverse_lower2(std::uint32_t ia, std::uint32_t ib) const {
+    if (!reverse) return 0.0;
+    double alo[3], ahi[3], blo[3], bhi[3];
+    const BvhNode& x = a.data->bvh.nodes[ia];
+    const BvhNode& y = b.data->bvh.nodes[ib];
+    map_box(rev, x.lo, x.hi, rev_margin_a, alo, ahi);
+    widen_box(y.lo, y.hi, rev_margin_b, blo, bhi);
+    return box_distance_squared(alo, ahi, blo, bhi);
+  }
 };
 
 Setup make_setup(const CollisionModel& ma, const Affine& ta, const CollisionModel& mb,
@@ -131,6 +149,31 @@ Setup make_setup(const CollisionModel& ma, const Affine& ta, const CollisionMode
     s.b.set_map(inv * second);
   }
   s.to_world = frame;
+  // Reverse frame when a is untouched and b's map is rigid (the common case:
+  // two rigid parts); its rounding margins mirror those of the forward maps.
+  if (s.a.identity && !s.b.identity) {
+    Affine mb = Affine::Identity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) mb.linear()(r, c) = s.b.map.l[3 * r + c];
+      mb.translation()(r) = s.b.map.t[r];
+    }
+    if (is_rigid(mb)) {
+      s.reverse = true;
+      const Affine inv = mb.inverse();
+      s.rev = to_map(inv);
+      for (int r = 0; r < 3; ++r) {
+        double sa = std::abs(s.rev.t[r]), sb = 0.0;
+        for (int c = 0; c < 3; ++c) {
+          sa += s.rev.abs_l[3 * r + c] * 2.0 * s.a.data->max_abs[c];
+          // b's mapped vertices err by b.margin in the working frame; pulled
+          // back through the rigid inverse that is at most the same again.
+          sb += s.rev.abs_l[3 * r + c] * s.b.margin[c];
+        }
+        s.rev_margin_a[r] = kMarginRel * sa + 1e-300;
+        s.rev_margin_b[r] = 2.0 * sb + 1e-300;
+      }
+    }
+  }
   return s;
 }
 
@@ -185,6 +228,13 @@ double leaf_axis_bounds(const double (*ta)[9], std::uint32_t na, const double (*
   return 1e-14 * big + 1e-300;
 }
 
+void triangle_box(const double* t, double* box) {
+  for (int k = 0; k < 3; ++k) {
+    box[k] = std::min({t[k], t[3 + k], t[6 + k]});
+    box[3 + k] = std::max({t[k], t[3 + k], t[6 + k]});
+  }
+}
+
 struct NodePair {
   std::uint32_t a, b;
   double lower2;  // squared distance lower bound (distance queries)
@@ -217,13 +267,20 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
     s.b.box(p.b, blo, bhi);
     ++result.node_pairs_visited;
     if (!boxes_overlap(alo, ahi, blo, bhi)) continue;
+    if (s.reverse_lower2(p.a, p.b) > 0.0) continue;
     const BvhNode& x = na[p.a];
     const BvhNode& y = nb[p.b];
     if (x.is_leaf() && y.is_leaf()) {
       for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
       for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
+      // Exact per-triangle box prefilter: the boxes come from the very
+      // doubles the exact test sees, so disjoint boxes prove disjointness.
+      double box_a[4][6], box_b[4][6];
+      for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
+      for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
       for (std::uint32_t i = 0; i < x.count; ++i)
         for (std::uint32_t j = 0; j < y.count; ++j) {
+          if (!boxes_overlap(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3)) continue;
           const double* p0 = tri_a[i];
           const double* q0 = tri_b[j];
           ++result.triangle_pairs_tested;
@@ -269,7 +326,8 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       sizes[0] = box_size(alo, ahi);
       sizes[1] = box_size(blo, bhi);
     }
-    return box_distance_squared(alo, ahi, blo, bhi) * kShrink;
+    const double forward = box_distance_squared(alo, ahi, blo, bhi);
+    return std::max(forward, s.reverse_lower2(ia, ib)) * kShrink;
   };
   std::vector<NodePair>& stack = t_stack;
   stack.clear();

@@ -65,15 +65,25 @@ TEST(GeometryMeasure, DISABLED_BuildAndQueryTimes) {
     const char* name;
     double gap;  // arm centre at radius 1.5 + 0.62 + gap along a tilted axis
   };
-  const Pose poses[] = {{"far 1 m", 1.0},    {"near 0.2 m", 0.2}, {"near 1 cm", 0.01},
-                        {"near 1 mm", 0.001}, {"grazing", -0.02}, {"deep", -0.3}};
+  const Pose poses[] = {{"far 1 m", 1.0},     {"near 0.2 m", 0.2}, {"near 1 cm", 0.01},
+                        {"near 1 mm", 0.001}, {"in 1 mm", -0.001}, {"in 5 cm", -0.05}};
   for (const Pose& pose : poses) {
     const Vec3 axis = Vec3(0.3, -0.5, 0.8).normalized();
     Affine tb = Affine::Identity();
     // Arm standing on its rim, outer edge toward the body.
     tb.linear() = Eigen::AngleAxisd(0.7, Vec3(1, 2, 0.5).normalized()).toRotationMatrix();
-    tb.translation() = axis * (1.5 * 1.03 + 0.62 + pose.gap);
+    tb.translation() = axis * 3.0;
     const Affine ta = Affine::Identity();
+    // Slide the arm along the axis until the clearance is the wanted one
+    // (negative: pushed in that far past first contact).
+    for (int it = 0; it < 6; ++it) {
+      DistanceResult d0;
+      distance(body_model, ta, arm_model, tb, DistanceRequest{}, d0);
+      const double target = std::max(pose.gap, 0.0);
+      if (d0.distance == 0.0) break;
+      tb.translation() -= axis * (d0.distance - target * (it < 5 ? 1.0 : 1.0));
+    }
+    if (pose.gap < 0) tb.translation() += axis * pose.gap;
 
     fcl::CollisionObjectd oa(fb, fcl::Transform3d(ta.matrix()));
     fcl::CollisionObjectd ob(fa, fcl::Transform3d(tb.matrix()));
@@ -110,10 +120,11 @@ TEST(GeometryMeasure, DISABLED_BuildAndQueryTimes) {
       EXPECT_NEAR(dr.distance, fdr.min_distance, 1e-9) << pose.name;
     }
     std::printf(
-        "%-11s collide=%d distance=%.6g | plancheck collide %8.1f us (%llu node pairs) distance "
+        "%-11s collide=%d distance=%.6g | plancheck collide %8.1f us (%llu node pairs, %llu tri) distance "
         "%8.1f us (%llu node pairs, %llu tri pairs) | fcl collide %8.1f us distance %8.1f us\n",
         pose.name, cr.collide, dr.distance, our_collide * 1e6,
-        static_cast<unsigned long long>(cr.node_pairs_visited), our_distance * 1e6,
+        static_cast<unsigned long long>(cr.node_pairs_visited),
+        static_cast<unsigned long long>(cr.triangle_pairs_tested), our_distance * 1e6,
         static_cast<unsigned long long>(dr.node_pairs_visited),
         static_cast<unsigned long long>(dr.triangle_pairs_tested), fcl_collide * 1e6,
         fcl_distance * 1e6);
