@@ -3,6 +3,8 @@
 
 #include "src/error.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -190,7 +192,107 @@ CollisionModelData build_collision_data(const Mesh& mesh) {
     for (int v = 0; v < 3; ++v)
       for (int k = 0; k < 3; ++k) data.triangles[s][3 * v + k] = mesh.vertices[tri[v]][k];
   }
+  compute_node_obbs(data);
   return data;
+}
+
+void compute_node_obbs(CollisionModelData& data) {
+  const auto& nodes = data.bvh.nodes;
+  const std::size_t n = nodes.size();
+  data.obbs.assign(n, NodeObb{});
+  if (n == 0) return;
+  // Vertex moments and slot ranges, bottom-up: children always have larger
+  // indices than their parent, so a reverse sweep sees children first.
+  struct Moments {
+    double count = 0, sum[3] = {0, 0, 0}, outer[6] = {0, 0, 0, 0, 0, 0};
+    std::uint32_t begin = 0, end = 0;
+  };
+  std::vector<Moments> m(n);
+  for (std::size_t i = n; i-- > 0;) {
+    const BvhNode& node = nodes[i];
+    Moments& mi = m[i];
+    if (node.is_leaf()) {
+      mi.begin = node.index;
+      mi.end = node.index + node.count;
+      for (std::uint32_t s = mi.begin; s < mi.end; ++s)
+        for (int v = 0; v < 3; ++v) {
+          const double* x = &data.triangles[s][3 * v];
+          mi.count += 1;
+          for (int k = 0; k < 3; ++k) mi.sum[k] += x[k];
+          mi.outer[0] += x[0] * x[0];
+          mi.outer[1] += x[0] * x[1];
+          mi.outer[2] += x[0] * x[2];
+          mi.outer[3] += x[1] * x[1];
+          mi.outer[4] += x[1] * x[2];
+          mi.outer[5] += x[2] * x[2];
+        }
+    } else {
+      const Moments& l = m[node.index];
+      const Moments& r = m[node.index + 1];
+      mi.count = l.count + r.count;
+      for (int k = 0; k < 3; ++k) mi.sum[k] = l.sum[k] + r.sum[k];
+      for (int k = 0; k < 6; ++k) mi.outer[k] = l.outer[k] + r.outer[k];
+      mi.begin = std::min(l.begin, r.begin);
+      mi.end = std::max(l.end, r.end);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const Moments& mi = m[i];
+    const Eigen::Vector3d mean(mi.sum[0] / mi.count, mi.sum[1] / mi.count, mi.sum[2] / mi.count);
+    Eigen::Matrix3d cov;
+    cov << mi.outer[0], mi.outer[1], mi.outer[2], mi.outer[1], mi.outer[3], mi.outer[4],
+        mi.outer[2], mi.outer[4], mi.outer[5];
+    cov = cov / mi.count - mean * mean.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(cov);
+    // Re-orthonormalise (Gram-Schmidt, then a cross product) so the axes are
+    // orthonormal to rounding even for repeated eigenvalues; fall back to
+    // the coordinate axes if the solver returned anything non-finite.
+    Eigen::Vector3d e0 = eig.eigenvectors().col(2), e1 = eig.eigenvectors().col(1);
+    bool ok = e0.allFinite() && e1.allFinite() && e0.norm() > 0.5;
+    if (ok) {
+      e0.normalize();
+      e1 -= e1.dot(e0) * e0;
+      ok = e1.norm() > 0.5;
+      e1.normalize();
+    }
+    if (!ok) {
+      e0 = Eigen::Vector3d::UnitX();
+      e1 = Eigen::Vector3d::UnitY();
+    }
+    const Eigen::Vector3d e2 = e0.cross(e1);
+    const Eigen::Vector3d axes[3] = {e0, e1, e2};
+    double lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::numeric_limits<double>::infinity();
+      hi[k] = -std::numeric_limits<double>::infinity();
+    }
+    for (std::uint32_t s = mi.begin; s < mi.end; ++s)
+      for (int v = 0; v < 3; ++v) {
+        const double* x = &data.triangles[s][3 * v];
+        for (int k = 0; k < 3; ++k) {
+          const double p = axes[k][0] * x[0] + axes[k][1] * x[1] + axes[k][2] * x[2];
+          lo[k] = std::min(lo[k], p);
+          hi[k] = std::max(hi[k], p);
+        }
+      }
+    NodeObb& o = data.obbs[i];
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    double extent = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      for (int j = 0; j < 3; ++j) o.axis[3 * k + j] = axes[k][j];
+      c += 0.5 * (lo[k] + hi[k]) * axes[k];
+      o.half[k] = 0.5 * (hi[k] - lo[k]);
+      extent += o.half[k];
+    }
+    // Projections, the centre's reconstruction and the axes' deviation from
+    // orthonormality each err by a few ulps of |x| <= |c| + extent.
+    const double margin = 1e-12 * (c.cwiseAbs().sum() + extent) + 1e-300;
+    for (int k = 0; k < 3; ++k) {
+      o.center[k] = c[k];
+      o.half[k] += margin;
+    }
+  }
 }
 
 }  // namespace plancheck

@@ -33,7 +33,8 @@ std::size_t CollisionModel::triangle_count() const { return data_->triangles.siz
 std::size_t CollisionModel::memory_bytes() const {
   return sizeof(CollisionModelData) + data_->bvh.nodes.capacity() * sizeof(BvhNode) +
          data_->bvh.prim_ids.capacity() * sizeof(std::uint32_t) +
-         data_->triangles.capacity() * sizeof(data_->triangles[0]);
+         data_->triangles.capacity() * sizeof(data_->triangles[0]) +
+         data_->obbs.capacity() * sizeof(NodeObb);
 }
 
 namespace {
@@ -111,6 +112,115 @@ struct Setup {
   double rev_margin_a[3] = {0, 0, 0};
   double rev_margin_b[3] = {0, 0, 0};
 
+  // Oriented-box tests, when both parts are placed rigidly in the working
+  // frame (a untouched, b by a rigid map): then b's node boxes stay boxes.
+  bool obb = false;
+  double obb_tol = 0.0;  // b's vertex-mapping rounding (m), added to every gap test
+
+  // Relative placement of b's node box in a's node box frame (Gottschalk's
+  // R and T): r[3i+j] = a_i . b'_j, t_local[i] = a_i . (c_b' - c_a).
+  struct ObbPair {
+    double r[9], abs_r[9], t[3], dist_centres, tol;
+  };
+  void obb_pair(std::uint32_t ia, std::uint32_t ib, ObbPair& p) const {
+    const NodeObb& oa = a.data->obbs[ia];
+    const NodeObb& ob = b.data->obbs[ib];
+    const AffineMap& m = b.map;
+    double bw[9], cb[3];
+    for (int j = 0; j < 3; ++j)  // b's axes in the working frame: rows of (L B^T)^T
+      for (int r = 0; r < 3; ++r)
+        bw[3 * j + r] = m.l[3 * r] * ob.axis[3 * j] + m.l[3 * r + 1] * ob.axis[3 * j + 1] +
+                        m.l[3 * r + 2] * ob.axis[3 * j + 2];
+    m.apply(ob.center, cb);
+    const double d[3] = {cb[0] - oa.center[0], cb[1] - oa.center[1], cb[2] - oa.center[2]};
+    for (int i = 0; i < 3; ++i) {
+      const double* ai = &oa.axis[3 * i];
+      p.t[i] = ai[0] * d[0] + ai[1] * d[1] + ai[2] * d[2];
+      for (int j = 0; j < 3; ++j) {
+        const double* bj = &bw[3 * j];
+        p.r[3 * i + j] = ai[0] * bj[0] + ai[1] * bj[1] + ai[2] * bj[2];
+        // The epsilon keeps near-parallel edge-cross axes from false separation.
+        p.abs_r[3 * i + j] = std::abs(p.r[3 * i + j]) + 1e-12;
+      }
+    }
+    p.dist_centres = std::sqrt(p.t[0] * p.t[0] + p.t[1] * p.t[1] + p.t[2] * p.t[2]);
+    const double ha = oa.half[0] + oa.half[1] + oa.half[2];
+    const double hb = ob.half[0] + ob.half[1] + ob.half[2];
+    p.tol = obb_tol + 1e-12 * (p.dist_centres + ha + hb +
+                               std::abs(oa.center[0]) + std::abs(oa.center[1]) +
+                               std::abs(oa.center[2]) + std::abs(cb[0]) + std::abs(cb[1]) +
+                               std::abs(cb[2]));
+  }
+
+  // Separating-axis test over the 15 axes of two boxes (Gottschalk 1996;
+  // Ericson 4.4.1): true when proven disjoint.
+  bool obb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
+    ObbPair p;
+    obb_pair(ia, ib, p);
+    const double* ha = a.data->obbs[ia].half;
+    const double* hb = b.data->obbs[ib].half;
+    const double* R = p.r;
+    const double* A = p.abs_r;
+    const double* T = p.t;
+    const double tol = p.tol;
+    for (int i = 0; i < 3; ++i) {
+      const double rb = hb[0] * A[3 * i] + hb[1] * A[3 * i + 1] + hb[2] * A[3 * i + 2];
+      if (std::abs(T[i]) > ha[i] + rb + tol) return true;
+    }
+    for (int j = 0; j < 3; ++j) {
+      const double ra = ha[0] * A[j] + ha[1] * A[3 + j] + ha[2] * A[6 + j];
+      const double tj = T[0] * R[j] + T[1] * R[3 + j] + T[2] * R[6 + j];
+      if (std::abs(tj) > ra + hb[j] + tol) return true;
+    }
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      for (int j = 0; j < 3; ++j) {
+        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+        // Axis a_i x b_j.
+        const double ra = ha[i1] * A[3 * i2 + j] + ha[i2] * A[3 * i1 + j];
+        const double rb = hb[j1] * A[3 * i + j2] + hb[j2] * A[3 * i + j1];
+        const double tl = T[i2] * R[3 * i1 + j] - T[i1] * R[3 * i2 + j];
+        if (std::abs(tl) > ra + rb + tol) return true;
+      }
+    }
+    return false;
+  }
+
+  // Distance lower bound from the boxes' face axes and the centre-to-centre
+  // axis (each separating-axis gap bounds the distance from below).
+  double obb_lower(std::uint32_t ia, std::uint32_t ib) const {
+    ObbPair p;
+    obb_pair(ia, ib, p);
+    const double* ha = a.data->obbs[ia].half;
+    const double* hb = b.data->obbs[ib].half;
+    const double* R = p.r;
+    const double* A = p.abs_r;
+    const double* T = p.t;
+    double gap = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double rb = hb[0] * A[3 * i] + hb[1] * A[3 * i + 1] + hb[2] * A[3 * i + 2];
+      gap = std::max(gap, std::abs(T[i]) - ha[i] - rb);
+    }
+    double tb[3];
+    for (int j = 0; j < 3; ++j) {
+      const double ra = ha[0] * A[j] + ha[1] * A[3 + j] + ha[2] * A[6 + j];
+      tb[j] = T[0] * R[j] + T[1] * R[3 + j] + T[2] * R[6 + j];
+      gap = std::max(gap, std::abs(tb[j]) - ra - hb[j]);
+    }
+    if (p.dist_centres > 0.0) {
+      const double ra = ha[0] * std::abs(T[0]) + ha[1] * std::abs(T[1]) + ha[2] * std::abs(T[2]);
+      const double rb =
+          hb[0] * std::abs(tb[0]) + hb[1] * std::abs(tb[1]) + hb[2] * std::abs(tb[2]);
+      gap = std::max(gap, p.dist_centres - (ra + rb) / p.dist_centres);
+    }
+    return std::max(0.0, gap - p.tol);
+  }
+
+  double obb_size(std::uint32_t ia, bool side_a) const {
+    const NodeObb& o = side_a ? a.data->obbs[ia] : b.data->obbs[ia];
+    return o.half[0] + o.half[1] + o.half[2];
+  }
+
   // Squared lower bound from the reverse frame (0 when not in use).
   double reverse_lower2(std::uint32_t ia, std::uint32_t ib) const {
     if (!reverse) return 0.0;
@@ -172,6 +282,9 @@ Setup make_setup(const CollisionModel& ma, const Affine& ta, const CollisionMode
         s.rev_margin_a[r] = kMarginRel * sa + 1e-300;
         s.rev_margin_b[r] = 2.0 * sb + 1e-300;
       }
+      s.obb = !s.a.data->obbs.empty() && !s.b.data->obbs.empty();
+      s.obb_tol = 2.0 * std::sqrt(s.b.margin[0] * s.b.margin[0] + s.b.margin[1] * s.b.margin[1] +
+                                  s.b.margin[2] * s.b.margin[2]);
     }
   }
   return s;
@@ -262,12 +375,21 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
   while (!stack.empty()) {
     const NodePair p = stack.back();
     stack.pop_back();
-    double alo[3], ahi[3], blo[3], bhi[3];
-    s.a.box(p.a, alo, ahi);
-    s.b.box(p.b, blo, bhi);
     ++result.node_pairs_visited;
-    if (!boxes_overlap(alo, ahi, blo, bhi)) continue;
-    if (s.reverse_lower2(p.a, p.b) > 0.0) continue;
+    double size_a, size_b;
+    if (s.obb) {
+      if (s.obb_disjoint(p.a, p.b)) continue;
+      size_a = s.obb_size(p.a, true);
+      size_b = s.obb_size(p.b, false);
+    } else {
+      double alo[3], ahi[3], blo[3], bhi[3];
+      s.a.box(p.a, alo, ahi);
+      s.b.box(p.b, blo, bhi);
+      if (!boxes_overlap(alo, ahi, blo, bhi)) continue;
+      if (s.reverse_lower2(p.a, p.b) > 0.0) continue;
+      size_a = box_size(alo, ahi);
+      size_b = box_size(blo, bhi);
+    }
     const BvhNode& x = na[p.a];
     const BvhNode& y = nb[p.b];
     if (x.is_leaf() && y.is_leaf()) {
@@ -294,8 +416,7 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
         }
       continue;
     }
-    const bool split_a =
-        !x.is_leaf() && (y.is_leaf() || box_size(alo, ahi) >= box_size(blo, bhi));
+    const bool split_a = !x.is_leaf() && (y.is_leaf() || size_a >= size_b);
     if (split_a) {
       stack.push_back({x.index + 1, p.b, 0.0});
       stack.push_back({x.index, p.b, 0.0});
@@ -319,6 +440,14 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   // more than the rounding of the squared box gaps.
   constexpr double kShrink = 1.0 - 1e-12;
   auto lower2 = [&](std::uint32_t ia, std::uint32_t ib, double* sizes) {
+    if (s.obb) {
+      if (sizes) {
+        sizes[0] = s.obb_size(ia, true);
+        sizes[1] = s.obb_size(ib, false);
+      }
+      const double lb = s.obb_lower(ia, ib);
+      return lb * lb * kShrink;
+    }
     double alo[3], ahi[3], blo[3], bhi[3];
     s.a.box(ia, alo, ahi);
     s.b.box(ib, blo, bhi);

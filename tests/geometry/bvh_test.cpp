@@ -78,6 +78,41 @@ TEST(Bvh, InvariantsHoldOnVariousMeshes) {
   }
 }
 
+// Every vertex of a node's triangles projects inside the node's oriented
+// box, whose axes are orthonormal.
+void check_obbs(const CollisionModelData& d) {
+  ASSERT_EQ(d.obbs.size(), d.bvh.nodes.size());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> range(d.bvh.nodes.size());
+  for (std::size_t i = d.bvh.nodes.size(); i-- > 0;) {
+    const BvhNode& n = d.bvh.nodes[i];
+    range[i] = n.is_leaf() ? std::make_pair(n.index, n.index + n.count)
+                           : std::make_pair(range[n.index].first, range[n.index + 1].second);
+  }
+  for (std::size_t i = 0; i < d.obbs.size(); ++i) {
+    const NodeObb& o = d.obbs[i];
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> axes(o.axis);
+    ASSERT_LE((axes * axes.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-14);
+    const Vec3 c(o.center[0], o.center[1], o.center[2]);
+    for (std::uint32_t s = range[i].first; s < range[i].second; ++s)
+      for (int v = 0; v < 3; ++v) {
+        const Vec3 x(d.triangles[s][3 * v], d.triangles[s][3 * v + 1], d.triangles[s][3 * v + 2]);
+        const Vec3 local = axes * (x - c);
+        for (int k = 0; k < 3; ++k) ASSERT_LE(std::abs(local[k]), o.half[k]) << "node " << i;
+      }
+  }
+}
+
+TEST(Bvh, OrientedBoxesContainTheirTriangles) {
+  for (const Mesh& m : {testing::make_sphere(Vec3(1.7374e6, -2, 3), 1.3, 24, 32),
+                        testing::make_soup(4, 2000, Vec3(0.1, 0.2, 0.3), 1.0, 0.2)})
+    check_obbs(build_collision_data(m));
+  // Flat and degenerate content: coplanar squares and repeated triangles.
+  Mesh same;
+  same.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
+  for (int i = 0; i < 9; ++i) same.triangles.push_back({0, 1, 2});
+  check_obbs(build_collision_data(same));
+}
+
 TEST(Bvh, DegenerateInputs) {
   // All triangles at one place (equal centroids): still small leaves.
   Mesh same;
