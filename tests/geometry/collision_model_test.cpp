@@ -3,6 +3,7 @@
 
 #include "kernels/tri_tri_overlap.h"
 #include "support/brute_force.h"
+#include "src/parallel.h"
 #include "support/test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -191,6 +192,87 @@ TEST(CollisionModel, EmptyMeshes) {
   DistanceResult d;
   distance(sphere, Affine::Identity(), empty, Affine::Identity(), DistanceRequest{}, d);
   EXPECT_FALSE(d.found);
+}
+
+}  // namespace
+}  // namespace plancheck
+
+namespace plancheck {
+namespace {
+
+TEST(CollisionModel, ConcurrentQueriesMatchSerialOnes) {
+  const CollisionModel a(testing::make_torus(Vec3::Zero(), 1.0, 0.3, 40, 20));
+  const CollisionModel b(testing::make_sphere(Vec3::Zero(), 0.7, 16, 24));
+  std::mt19937_64 rng(8);
+  const int n = 64;
+  std::vector<Affine> poses;
+  for (int i = 0; i < n; ++i) poses.push_back(random_rigid(rng, Vec3::Zero(), 1.6));
+  std::vector<CollideResult> c_serial(n), c_par(n);
+  std::vector<DistanceResult> d_serial(n), d_par(n);
+  for (int i = 0; i < n; ++i) {
+    collide(a, Affine::Identity(), b, poses[i], CollideRequest{}, c_serial[i]);
+    distance(a, Affine::Identity(), b, poses[i], DistanceRequest{}, d_serial[i]);
+  }
+  parallel_for(n, 2, 1, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      collide(a, Affine::Identity(), b, poses[i], CollideRequest{}, c_par[i]);
+      distance(a, Affine::Identity(), b, poses[i], DistanceRequest{}, d_par[i]);
+    }
+  });
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(c_par[i].triangle_pairs, c_serial[i].triangle_pairs) << i;
+    EXPECT_EQ(d_par[i].distance, d_serial[i].distance) << i;
+    EXPECT_EQ(d_par[i].triangle_a, d_serial[i].triangle_a) << i;
+  }
+}
+
+}  // namespace
+}  // namespace plancheck
+
+namespace plancheck {
+namespace {
+
+Mesh unit_cube() {
+  Mesh m;
+  for (int i = 0; i < 8; ++i) m.vertices.push_back(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+  m.triangles = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
+                 {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+  return m;
+}
+
+// Rigid poses with exactly representable matrices (quarter turns, dyadic
+// shifts), so the working-frame coordinates are exact and face, edge and
+// vertex contacts are known exactly: culling must never drop them.
+TEST(CollisionModel, ExactContactsUnderQuarterTurns) {
+  const Mesh cube = unit_cube();
+  const CollisionModel a(cube), b(cube);
+  Affine turn = Affine::Identity();
+  turn.linear() << 0, -1, 0, 1, 0, 0, 0, 0, 1;  // quarter turn about z
+  const Vec3 offsets[] = {Vec3(2, 0, 0.5), Vec3(2, 1, 1), Vec3(2, 1, 0.25), Vec3(2, -1, -1)};
+  // The turned cube spans x in [-1, 0] before the shift: shifted by 2 in x
+  // its face x = 1 meets a's face x = 1.
+  for (const Vec3& o : offsets) {
+    for (double gap : {0.0, 0x1p-30, 0x1p-50}) {
+      Affine tb = turn;
+      tb.translation() = o + Vec3(gap, 0, 0);
+      const bool touching = gap == 0.0;
+      CollideResult c;
+      collide(a, Affine::Identity(), b, tb, CollideRequest{}, c);
+      EXPECT_EQ(c.collide, touching) << o.transpose() << " gap " << gap;
+      const auto brute = testing::brute_force_collide(cube, cube.vertices, cube,
+                                                      testing::posed_vertices(cube, tb));
+      EXPECT_EQ(!brute.empty(), touching);
+      DistanceResult d;
+      distance(a, Affine::Identity(), b, tb, DistanceRequest{}, d);
+      ASSERT_TRUE(d.found);
+      EXPECT_EQ(d.distance, gap) << o.transpose();
+      // The same with a rotated (non-identity) frame for a.
+      Affine ta = turn;
+      CollideResult c2;
+      collide(a, ta, b, ta * tb, CollideRequest{}, c2);
+      EXPECT_EQ(c2.collide, touching);
+    }
+  }
 }
 
 }  // namespace
