@@ -65,6 +65,12 @@ struct DistanceResult {
 // Transforms are affine in general (scale actions); distances are Euclidean
 // in the world frame. Intersection is decided exactly on the posed double
 // coordinates: touching counts as colliding.
+// "Posed" means the query's working frame (collision_model.cpp): a's own
+// frame when ta is rigid (b's vertices mapped once by ta^-1 tb and rounded),
+// b's frame when only tb is rigid, else the world frame. The exact decision
+// is on those doubles; a world-frame rounding of the same pose can differ
+// only for contacts within a few ulps of touching.
+// Both are thread-safe (a small thread_local stack; no shared mutable state).
 void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
              const CollideRequest& request, CollideResult& result);
 
