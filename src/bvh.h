@@ -35,9 +35,13 @@ struct Bvh {
   std::vector<std::uint32_t> prim_ids;  // primitive order: slot -> input primitive index
 };
 
+// Leaves of collision models hold at most this many triangles; traversal
+// keeps per-leaf scratch of this size on the stack.
+inline constexpr int kMaxLeafSize = 4;
+
 struct BvhBuildOptions {
-  int bins = 16;           // SAH bins per axis
-  int max_leaf_size = 4;   // primitives per leaf at most
+  int bins = 16;                      // SAH bins per axis
+  int max_leaf_size = kMaxLeafSize;   // primitives per leaf at most
 };
 
 // Binned SAH build (Wald, "On fast construction of SAH-based bounding volume

@@ -358,20 +358,23 @@ thread_local std::vector<NodePair> t_stack;
 
 }  // namespace
 
-void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
-             const CollideRequest& request, CollideResult& result) {
-  result.collide = false;
-  result.triangle_pairs.clear();
-  result.node_pairs_visited = result.triangle_pairs_tested = 0;
-  if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
-  const Setup s = make_setup(a, ta, b, tb);
-  const std::size_t limit = std::max<std::size_t>(1, request.max_triangle_pairs);
+namespace {
+
+// Working-frame slots of the first intersecting pair found.
+struct FirstHit {
+  bool found = false;
+  std::uint32_t slot_a = 0, slot_b = 0;
+};
+
+// The collision traversal in a prepared working frame; stops after `limit`
+// pairs (>= 1).
+void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit) {
   const auto& na = s.a.data->bvh.nodes;
   const auto& nb = s.b.data->bvh.nodes;
   std::vector<NodePair>& stack = t_stack;
   stack.clear();
   stack.push_back({0, 0, 0.0});
-  double tri_a[4][9], tri_b[4][9];
+  double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
   while (!stack.empty()) {
     const NodePair p = stack.back();
     stack.pop_back();
@@ -397,7 +400,7 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
       for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
       // Exact per-triangle box prefilter: the boxes come from the very
       // doubles the exact test sees, so disjoint boxes prove disjointness.
-      double box_a[4][6], box_b[4][6];
+      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
       for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
       for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
       for (std::uint32_t i = 0; i < x.count; ++i)
@@ -410,6 +413,7 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
           std::uint32_t ia = s.a.data->bvh.prim_ids[x.index + i];
           std::uint32_t ib = s.b.data->bvh.prim_ids[y.index + j];
           if (s.swapped) std::swap(ia, ib);
+          if (hit && !hit->found) *hit = FirstHit{true, x.index + i, y.index + j};
           result.collide = true;
           result.triangle_pairs.emplace_back(ia, ib);
           if (result.triangle_pairs.size() >= limit) return;
@@ -427,11 +431,54 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
   }
 }
 
+}  // namespace
+
+void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+             const CollideRequest& request, CollideResult& result) {
+  result.collide = false;
+  result.triangle_pairs.clear();
+  result.node_pairs_visited = result.triangle_pairs_tested = 0;
+  if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
+  const Setup s = make_setup(a, ta, b, tb);
+  collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, nullptr);
+}
+
 void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
               const DistanceRequest& request, DistanceResult& result) {
   result = DistanceResult{};
   if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
   const Setup s = make_setup(a, ta, b, tb);
+  if (!(request.upper_bound > 0.0)) return;  // no distance is below 0
+  {
+    // Intersection first: the collision traversal stops at the first hit
+    // and culls far harder than distance bounds, which cannot prune
+    // anything once pairs are at distance 0.
+    CollideResult c;
+    FirstHit hit;
+    collide_in(s, 1, c, &hit);
+    result.node_pairs_visited += c.node_pairs_visited;
+    result.triangle_pairs_tested += c.triangle_pairs_tested;
+    if (hit.found) {
+      double p[9], q[9];
+      s.a.triangle(hit.slot_a, p);
+      s.b.triangle(hit.slot_b, q);
+      const TriDistance d = tri_distance(p, q);  // intersecting: a common point
+      Vec3 pa = s.to_world * d.point_p, pb = s.to_world * d.point_q;
+      std::uint32_t ia = s.a.data->bvh.prim_ids[hit.slot_a];
+      std::uint32_t ib = s.b.data->bvh.prim_ids[hit.slot_b];
+      if (s.swapped) {
+        std::swap(ia, ib);
+        std::swap(pa, pb);
+      }
+      result.found = true;
+      result.distance = 0.0;
+      result.point_a = pa;
+      result.point_b = pb;
+      result.triangle_a = ia;
+      result.triangle_b = ib;
+      return;
+    }
+  }
   const auto& na = s.a.data->bvh.nodes;
   const auto& nb = s.b.data->bvh.nodes;
   double best = request.upper_bound;
@@ -464,7 +511,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   bool found = false;
   std::uint32_t best_sa = 0, best_sb = 0;
   Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
-  double tri_a[4][9], tri_b[4][9];
+  double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
   while (!stack.empty()) {
     const NodePair p = stack.back();
     stack.pop_back();
@@ -479,7 +526,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       // through the two leaves' vertex centroids: near the closest pair that
       // axis is almost the optimal one, and unlike boxes the vertices carry
       // no slack beyond the patches' own curvature.
-      double hi_a[4], lo_b[4];
+      double hi_a[kMaxLeafSize], lo_b[kMaxLeafSize];
       const double slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
       for (std::uint32_t i = 0; i < x.count; ++i)
         for (std::uint32_t j = 0; j < y.count; ++j) {
