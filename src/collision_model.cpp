@@ -549,7 +549,12 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       continue;
     }
     double sizes[2];
-    lower2(p.a, p.b, sizes);
+    if (s.obb) {
+      sizes[0] = s.obb_size(p.a, true);
+      sizes[1] = s.obb_size(p.b, false);
+    } else {
+      lower2(p.a, p.b, sizes);
+    }
     const bool split_a = !x.is_leaf() && (y.is_leaf() || sizes[0] >= sizes[1]);
     NodePair c0, c1;
     if (split_a) {
