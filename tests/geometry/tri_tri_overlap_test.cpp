@@ -141,6 +141,7 @@ TEST(TriTriOverlap, GridCasesMatchExactReference) {
   std::mt19937_64 rng(12345);
   std::uniform_int_distribution<int> coord(0, 3);
   int hits = 0, total = 0;
+  const unsigned long long fallbacks_before = exact_fallback_count();
   for (double offset : {0.0, 1.7374e6, -3.25e3}) {
     for (double scale : {1.0, 0x1p-20, 0x1p+10}) {
       for (int it = 0; it < 1500; ++it) {
@@ -158,9 +159,11 @@ TEST(TriTriOverlap, GridCasesMatchExactReference) {
       }
     }
   }
-  // Both answers must be well represented for the comparison to mean much.
+  // Both answers must be well represented for the comparison to mean much,
+  // and the exact fallback must have been exercised (zero determinants).
   EXPECT_GT(hits, total / 10);
   EXPECT_LT(hits, total * 9 / 10);
+  EXPECT_GT(exact_fallback_count(), fallbacks_before);
 }
 
 TEST(TriTriOverlap, RandomCasesMatchExactReference) {
