@@ -208,6 +208,11 @@ void compute_node_obbs(CollisionModelData& data) {
     std::uint32_t begin = 0, end = 0;
   };
   std::vector<Moments> m(n);
+  // Moments about the root box's centre, so parts modelled far from their
+  // origin do not lose the covariance to cancellation.
+  double origin[3];
+  for (int k = 0; k < 3; ++k)
+    origin[k] = 0.5 * (static_cast<double>(nodes[0].lo[k]) + static_cast<double>(nodes[0].hi[k]));
   for (std::size_t i = n; i-- > 0;) {
     const BvhNode& node = nodes[i];
     Moments& mi = m[i];
@@ -216,7 +221,8 @@ void compute_node_obbs(CollisionModelData& data) {
       mi.end = node.index + node.count;
       for (std::uint32_t s = mi.begin; s < mi.end; ++s)
         for (int v = 0; v < 3; ++v) {
-          const double* x = &data.triangles[s][3 * v];
+          const double* xv = &data.triangles[s][3 * v];
+          const double x[3] = {xv[0] - origin[0], xv[1] - origin[1], xv[2] - origin[2]};
           mi.count += 1;
           for (int k = 0; k < 3; ++k) mi.sum[k] += x[k];
           mi.outer[0] += x[0] * x[0];
