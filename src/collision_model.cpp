@@ -2,6 +2,18 @@
 // Pair queries: BVH-vs-BVH traversal in one working frame, exact triangle
 // overlap at the leaves, Ericson triangle distance with box lower bounds.
 //
+// Culling: when both parts sit rigidly in the working frame (the common case)
+// node pairs are tested with the per-node oriented boxes (15-axis separating
+// axis test; face and centre axes for distance bounds); otherwise with the
+// axis-aligned node boxes mapped into the working frame (Arvo's enclosing
+// box), plus the reverse mapping into b's frame when b's map is rigid. Every
+// test is widened by a margin that covers rounding, so no pair holding
+// touching triangles is culled. Leaf pairs: an exact per-triangle box filter
+// before the overlap kernel; for distance a separating-axis bound on the
+// actual vertices before the distance kernel. distance() first runs the
+// collision traversal (stop at first hit), since distance bounds cannot cull
+// anything among pairs at distance 0.
+//
 // Working frame: a's frame when ta is rigid (b mapped by ta^-1 tb, distances
 // there equal world distances); else b's frame when tb is rigid (roles
 // swapped, results swapped back); else the world frame (both mapped). Only

@@ -84,11 +84,6 @@ bool segment_meets_triangle(const Q3& s, const Q3& t, const std::array<Q3, 3>& t
   return inside(x, tri[0], tri[1], tri[2], n);
 }
 
-long double ld_dot(const Vec3& a, const Vec3& b) {
-  return static_cast<long double>(a.x()) * b.x() + static_cast<long double>(a.y()) * b.y() +
-         static_cast<long double>(a.z()) * b.z();
-}
-
 using L3 = std::array<long double, 3>;
 L3 L(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
 L3 lsub(const L3& a, const L3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
@@ -163,7 +158,6 @@ long double reference_tri_distance(const Vec3 p[3], const Vec3 q[3]) {
     for (int j = 0; j < 3; ++j)
       best = std::min(best, segment_segment(a[i], a[(i + 1) % 3], b[j], b[(j + 1) % 3]));
   }
-  (void)ld_dot;
   return best;
 }
 
