@@ -34,12 +34,15 @@ class CollisionModel {
 };
 
 struct CollideRequest {
-  std::size_t max_triangle_pairs = 16;  // intersecting triangle pairs to list; 0: stop at the first
+  // Intersecting triangle pairs to list; 0: stop at the first (it is listed).
+  std::size_t max_triangle_pairs = 16;
 };
 
 struct CollideResult {
   bool collide = false;                 // true when the sets touch or intersect (exact)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> triangle_pairs;  // (index in a, index in b)
+  std::uint64_t node_pairs_visited = 0;   // statistics: BVH node pairs popped
+  std::uint64_t triangle_pairs_tested = 0;  // statistics: exact triangle tests run
 };
 
 struct DistanceRequest {
@@ -53,13 +56,21 @@ struct DistanceResult {
   double distance = std::numeric_limits<double>::infinity();  // m, world frame; 0 when touching
   Vec3 point_a = Vec3::Zero();          // closest point on a, world frame (m)
   Vec3 point_b = Vec3::Zero();          // closest point on b, world frame (m)
-  std::uint32_t triangle_a = 0;
-  std::uint32_t triangle_b = 0;
+  std::uint32_t triangle_a = 0;          // triangle index in a's mesh (valid when found)
+  std::uint32_t triangle_b = 0;          // triangle index in b's mesh (valid when found)
+  std::uint64_t node_pairs_visited = 0;   // statistics: BVH node pairs expanded or tested
+  std::uint64_t triangle_pairs_tested = 0;  // statistics: triangle distance kernels run
 };
 
 // Transforms are affine in general (scale actions); distances are Euclidean
 // in the world frame. Intersection is decided exactly on the posed double
 // coordinates: touching counts as colliding.
+// "Posed" means the query's working frame (collision_model.cpp): a's own
+// frame when ta is rigid (b's vertices mapped once by ta^-1 tb and rounded),
+// b's frame when only tb is rigid, else the world frame. The exact decision
+// is on those doubles; a world-frame rounding of the same pose can differ
+// only for contacts within a few ulps of touching.
+// Both are thread-safe (a small thread_local stack; no shared mutable state).
 void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
              const CollideRequest& request, CollideResult& result);
 

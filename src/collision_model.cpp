@@ -1,0 +1,600 @@
+// SPDX-License-Identifier: MIT
+// Pair queries: BVH-vs-BVH traversal in one working frame, exact triangle
+// overlap at the leaves, Ericson triangle distance with box lower bounds.
+//
+// Culling: when both parts sit rigidly in the working frame (the common case)
+// node pairs are tested with the per-node oriented boxes (15-axis separating
+// axis test; face and centre axes for distance bounds); otherwise with the
+// axis-aligned node boxes mapped into the working frame (Arvo's enclosing
+// box), plus the reverse mapping into b's frame when b's map is rigid. Every
+// test is widened by a margin that covers rounding, so no pair holding
+// touching triangles is culled. Leaf pairs: an exact per-triangle box filter
+// before the overlap kernel; for distance a separating-axis bound on the
+// actual vertices before the distance kernel. distance() first runs the
+// collision traversal (stop at first hit), since distance bounds cannot cull
+// anything among pairs at distance 0.
+//
+// Working frame: a's frame when ta is rigid (b mapped by ta^-1 tb, distances
+// there equal world distances); else b's frame when tb is rigid (roles
+// swapped, results swapped back); else the world frame (both mapped). Only
+// leaf triangles are mapped, never a whole mesh. Collision is decided exactly
+// on the working-frame double coordinates: a's vertices as stored and b's as
+// M v rounded once (identity maps leave coordinates untouched).
+#include "src/collision_model.h"
+
+#include "kernels/box.h"
+#include "kernels/tri_distance.h"
+#include "kernels/tri_tri_overlap.h"
+#include "src/bvh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace plancheck {
+
+CollisionModel::CollisionModel(const Mesh& mesh)
+    : data_(std::make_unique<CollisionModelData>(build_collision_data(mesh))) {}
+CollisionModel::~CollisionModel() = default;
+CollisionModel::CollisionModel(CollisionModel&&) noexcept = default;
+CollisionModel& CollisionModel::operator=(CollisionModel&&) noexcept = default;
+
+std::size_t CollisionModel::triangle_count() const { return data_->triangles.size(); }
+
+std::size_t CollisionModel::memory_bytes() const {
+  return sizeof(CollisionModelData) + data_->bvh.nodes.capacity() * sizeof(BvhNode) +
+         data_->bvh.prim_ids.capacity() * sizeof(std::uint32_t) +
+         data_->triangles.capacity() * sizeof(data_->triangles[0]) +
+         data_->obbs.capacity() * sizeof(NodeObb);
+}
+
+namespace {
+
+// Relative size of the rounding margin: the box and vertex mappings err by a
+// few ulps of |L| |x| + |t|; 1e-12 covers that a thousand times over.
+constexpr double kMarginRel = 1e-12;
+// Orthonormality tolerance for "rigid" (distances preserved to ~1e-13).
+constexpr double kRigidTol = 1e-13;
+
+bool is_rigid(const Affine& t) {
+  const Mat3 l = t.linear();
+  return ((l.transpose() * l - Mat3::Identity()).cwiseAbs().maxCoeff() <= kRigidTol);
+}
+
+AffineMap to_map(const Affine& t) {
+  AffineMap m;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      m.l[3 * r + c] = t.linear()(r, c);
+      m.abs_l[3 * r + c] = std::abs(t.linear()(r, c));
+    }
+    m.t[r] = t.translation()(r);
+  }
+  return m;
+}
+
+// One side of a query: its data, its map into the working frame and the
+// margin that covers rounding of that map.
+struct Side {
+  const CollisionModelData* data = nullptr;
+  bool identity = true;
+  AffineMap map;
+  double margin[3] = {0, 0, 0};
+
+  void set_map(const Affine& t) {
+    identity = t.matrix() == Affine::Identity().matrix();
+    map = to_map(t);
+    for (int r = 0; r < 3; ++r) {
+      double s = std::abs(map.t[r]);
+      // Node boxes are rounded outward to float: allow twice the vertex bound.
+      for (int c = 0; c < 3; ++c) s += map.abs_l[3 * r + c] * 2.0 * data->max_abs[c];
+      margin[r] = identity ? 0.0 : kMarginRel * s + 1e-300;
+    }
+  }
+
+  void box(std::uint32_t node, double* lo, double* hi) const {
+    const BvhNode& n = data->bvh.nodes[node];
+    if (identity)
+      widen_box(n.lo, n.hi, margin, lo, hi);
+    else
+      map_box(map, n.lo, n.hi, margin, lo, hi);
+  }
+
+  // Working-frame coordinates of the triangle in slot s.
+  void triangle(std::uint32_t s, double* out) const {
+    const double* src = data->triangles[s].data();
+    if (identity) {
+      std::copy(src, src + 9, out);
+    } else {
+      for (int v = 0; v < 3; ++v) map.apply(src + 3 * v, out + 3 * v);
+    }
+  }
+};
+
+struct Setup {
+  Side a, b;
+  bool swapped = false;
+  Affine to_world = Affine::Identity();
+  // Second culling frame: a's boxes mapped into b's own frame, against b's
+  // untouched boxes (the other three face axes of the box-vs-box separating
+  // axis test). Used when b's map is rigid, so distances agree there too.
+  bool reverse = false;
+  AffineMap rev;         // working frame of a -> b's frame (b.map^-1 * a.map)
+  double rev_margin_a[3] = {0, 0, 0};
+  double rev_margin_b[3] = {0, 0, 0};
+
+  // Oriented-box tests, when both parts are placed rigidly in the working
+  // frame (a untouched, b by a rigid map): then b's node boxes stay boxes.
+  bool obb = false;
+  double obb_tol = 0.0;  // b's vertex-mapping rounding (m), added to every gap test
+
+  // Relative placement of b's node box in a's node box frame (Gottschalk's
+  // R and T): r[3i+j] = a_i . b'_j, t_local[i] = a_i . (c_b' - c_a).
+  struct ObbPair {
+    double r[9], abs_r[9], t[3], dist_centres, tol;
+  };
+  void obb_pair(std::uint32_t ia, std::uint32_t ib, ObbPair& p) const {
+    const NodeObb& oa = a.data->obbs[ia];
+    const NodeObb& ob = b.data->obbs[ib];
+    const AffineMap& m = b.map;
+    double bw[9], cb[3];
+    for (int j = 0; j < 3; ++j)  // b's axes in the working frame: rows of (L B^T)^T
+      for (int r = 0; r < 3; ++r)
+        bw[3 * j + r] = m.l[3 * r] * ob.axis[3 * j] + m.l[3 * r + 1] * ob.axis[3 * j + 1] +
+                        m.l[3 * r + 2] * ob.axis[3 * j + 2];
+    m.apply(ob.center, cb);
+    const double d[3] = {cb[0] - oa.center[0], cb[1] - oa.center[1], cb[2] - oa.center[2]};
+    for (int i = 0; i < 3; ++i) {
+      const double* ai = &oa.axis[3 * i];
+      p.t[i] = ai[0] * d[0] + ai[1] * d[1] + ai[2] * d[2];
+      for (int j = 0; j < 3; ++j) {
+        const double* bj = &bw[3 * j];
+        p.r[3 * i + j] = ai[0] * bj[0] + ai[1] * bj[1] + ai[2] * bj[2];
+        // The epsilon keeps near-parallel edge-cross axes from false separation.
+        p.abs_r[3 * i + j] = std::abs(p.r[3 * i + j]) + 1e-12;
+      }
+    }
+    p.dist_centres = std::sqrt(p.t[0] * p.t[0] + p.t[1] * p.t[1] + p.t[2] * p.t[2]);
+    const double ha = oa.half[0] + oa.half[1] + oa.half[2];
+    const double hb = ob.half[0] + ob.half[1] + ob.half[2];
+    p.tol = obb_tol + 1e-12 * (p.dist_centres + ha + hb +
+                               std::abs(oa.center[0]) + std::abs(oa.center[1]) +
+                               std::abs(oa.center[2]) + std::abs(cb[0]) + std::abs(cb[1]) +
+                               std::abs(cb[2]));
+  }
+
+  // Separating-axis test over the 15 axes of two boxes (Gottschalk 1996;
+  // Ericson 4.4.1): true when proven disjoint.
+  bool obb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
+    ObbPair p;
+    obb_pair(ia, ib, p);
+    const double* ha = a.data->obbs[ia].half;
+    const double* hb = b.data->obbs[ib].half;
+    const double* R = p.r;
+    const double* A = p.abs_r;
+    const double* T = p.t;
+    const double tol = p.tol;
+    for (int i = 0; i < 3; ++i) {
+      const double rb = hb[0] * A[3 * i] + hb[1] * A[3 * i + 1] + hb[2] * A[3 * i + 2];
+      if (std::abs(T[i]) > ha[i] + rb + tol) return true;
+    }
+    for (int j = 0; j < 3; ++j) {
+      const double ra = ha[0] * A[j] + ha[1] * A[3 + j] + ha[2] * A[6 + j];
+      const double tj = T[0] * R[j] + T[1] * R[3 + j] + T[2] * R[6 + j];
+      if (std::abs(tj) > ra + hb[j] + tol) return true;
+    }
+    for (int i = 0; i < 3; ++i) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
+      for (int j = 0; j < 3; ++j) {
+        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+        // Axis a_i x b_j.
+        const double ra = ha[i1] * A[3 * i2 + j] + ha[i2] * A[3 * i1 + j];
+        const double rb = hb[j1] * A[3 * i + j2] + hb[j2] * A[3 * i + j1];
+        const double tl = T[i2] * R[3 * i1 + j] - T[i1] * R[3 * i2 + j];
+        if (std::abs(tl) > ra + rb + tol) return true;
+      }
+    }
+    return false;
+  }
+
+  // Distance lower bound from the boxes' face axes and the centre-to-centre
+  // axis (each separating-axis gap bounds the distance from below).
+  double obb_lower(std::uint32_t ia, std::uint32_t ib) const {
+    ObbPair p;
+    obb_pair(ia, ib, p);
+    const double* ha = a.data->obbs[ia].half;
+    const double* hb = b.data->obbs[ib].half;
+    const double* R = p.r;
+    const double* A = p.abs_r;
+    const double* T = p.t;
+    double gap = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double rb = hb[0] * A[3 * i] + hb[1] * A[3 * i + 1] + hb[2] * A[3 * i + 2];
+      gap = std::max(gap, std::abs(T[i]) - ha[i] - rb);
+    }
+    double tb[3];
+    for (int j = 0; j < 3; ++j) {
+      const double ra = ha[0] * A[j] + ha[1] * A[3 + j] + ha[2] * A[6 + j];
+      tb[j] = T[0] * R[j] + T[1] * R[3 + j] + T[2] * R[6 + j];
+      gap = std::max(gap, std::abs(tb[j]) - ra - hb[j]);
+    }
+    if (p.dist_centres > 0.0) {
+      const double ra = ha[0] * std::abs(T[0]) + ha[1] * std::abs(T[1]) + ha[2] * std::abs(T[2]);
+      const double rb =
+          hb[0] * std::abs(tb[0]) + hb[1] * std::abs(tb[1]) + hb[2] * std::abs(tb[2]);
+      gap = std::max(gap, p.dist_centres - (ra + rb) / p.dist_centres);
+    }
+    return std::max(0.0, gap - p.tol);
+  }
+
+  double obb_size(std::uint32_t ia, bool side_a) const {
+    const NodeObb& o = side_a ? a.data->obbs[ia] : b.data->obbs[ia];
+    return o.half[0] + o.half[1] + o.half[2];
+  }
+
+  // Squared lower bound from the reverse frame (0 when not in use).
+  double reverse_lower2(std::uint32_t ia, std::uint32_t ib) const {
+    if (!reverse) return 0.0;
+    double alo[3], ahi[3], blo[3], bhi[3];
+    const BvhNode& x = a.data->bvh.nodes[ia];
+    const BvhNode& y = b.data->bvh.nodes[ib];
+    map_box(rev, x.lo, x.hi, rev_margin_a, alo, ahi);
+    widen_box(y.lo, y.hi, rev_margin_b, blo, bhi);
+    return box_distance_squared(alo, ahi, blo, bhi);
+  }
+};
+
+Setup make_setup(const CollisionModel& ma, const Affine& ta, const CollisionModel& mb,
+                 const Affine& tb) {
+  Setup s;
+  const CollisionModelData* da = &ma.data();
+  const CollisionModelData* db = &mb.data();
+  Affine frame = Affine::Identity();
+  Affine first = ta, second = tb;
+  if (is_rigid(ta)) {
+    frame = ta;
+  } else if (is_rigid(tb)) {
+    s.swapped = true;
+    std::swap(da, db);
+    std::swap(first, second);
+    frame = first;
+  }
+  s.a.data = da;
+  s.b.data = db;
+  if (frame.matrix() == Affine::Identity().matrix()) {
+    s.a.set_map(first);
+    s.b.set_map(second);
+  } else {
+    const Affine inv = frame.inverse();
+    s.a.set_map(Affine::Identity());
+    s.b.set_map(inv * second);
+  }
+  s.to_world = frame;
+  // Reverse frame when a is untouched and b's map is rigid (the common case:
+  // two rigid parts); its rounding margins mirror those of the forward maps.
+  if (s.a.identity && !s.b.identity) {
+    Affine mb = Affine::Identity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) mb.linear()(r, c) = s.b.map.l[3 * r + c];
+      mb.translation()(r) = s.b.map.t[r];
+    }
+    if (is_rigid(mb)) {
+      s.reverse = true;
+      const Affine inv = mb.inverse();
+      s.rev = to_map(inv);
+      for (int r = 0; r < 3; ++r) {
+        double sa = std::abs(s.rev.t[r]), sb = 0.0;
+        for (int c = 0; c < 3; ++c) {
+          sa += s.rev.abs_l[3 * r + c] * 2.0 * s.a.data->max_abs[c];
+          // b's mapped vertices err by b.margin in the working frame; pulled
+          // back through the rigid inverse that is at most the same again.
+          sb += s.rev.abs_l[3 * r + c] * s.b.margin[c];
+        }
+        s.rev_margin_a[r] = kMarginRel * sa + 1e-300;
+        s.rev_margin_b[r] = 2.0 * sb + 1e-300;
+      }
+      s.obb = !s.a.data->obbs.empty() && !s.b.data->obbs.empty();
+      s.obb_tol = 2.0 * std::sqrt(s.b.margin[0] * s.b.margin[0] + s.b.margin[1] * s.b.margin[1] +
+                                  s.b.margin[2] * s.b.margin[2]);
+    }
+  }
+  return s;
+}
+
+double box_size(const double* lo, const double* hi) {
+  return (hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]);
+}
+
+// Projects the leaves' triangles on the unit axis n from the centroid of a's
+// vertices to b's: hi_a[i] = max over triangle i of a, lo_b[j] = min over
+// triangle j of b. Then lo_b[j] - hi_a[i] - slack is a lower bound of the
+// distance of the pair (a separating-axis gap); slack covers the rounding of
+// the dot products. Returns slack (infinity when the axis is degenerate, so
+// nothing is skipped).
+double leaf_axis_bounds(const double (*ta)[9], std::uint32_t na, const double (*tb)[9],
+                        std::uint32_t nb, double* hi_a, double* lo_b) {
+  double ca[3] = {0, 0, 0}, cb[3] = {0, 0, 0}, big = 0.0;
+  for (std::uint32_t i = 0; i < na; ++i)
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) {
+        ca[k] += ta[i][3 * v + k];
+        big = std::max(big, std::abs(ta[i][3 * v + k]));
+      }
+  for (std::uint32_t j = 0; j < nb; ++j)
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) {
+        cb[k] += tb[j][3 * v + k];
+        big = std::max(big, std::abs(tb[j][3 * v + k]));
+      }
+  double n[3];
+  for (int k = 0; k < 3; ++k) n[k] = cb[k] / (3 * nb) - ca[k] / (3 * na);
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(len > 0.0) || !std::isfinite(len)) {
+    std::fill(hi_a, hi_a + na, 0.0);
+    std::fill(lo_b, lo_b + nb, 0.0);
+    return std::numeric_limits<double>::infinity();
+  }
+  for (double& c : n) c /= len;
+  for (std::uint32_t i = 0; i < na; ++i) {
+    double h = -std::numeric_limits<double>::infinity();
+    for (int v = 0; v < 3; ++v)
+      h = std::max(h, n[0] * ta[i][3 * v] + n[1] * ta[i][3 * v + 1] + n[2] * ta[i][3 * v + 2]);
+    hi_a[i] = h;
+  }
+  for (std::uint32_t j = 0; j < nb; ++j) {
+    double l = std::numeric_limits<double>::infinity();
+    for (int v = 0; v < 3; ++v)
+      l = std::min(l, n[0] * tb[j][3 * v] + n[1] * tb[j][3 * v + 1] + n[2] * tb[j][3 * v + 2]);
+    lo_b[j] = l;
+  }
+  // |n| = 1 to a few ulps; each dot product errs by < 4 eps * sqrt(3) * big,
+  // and the difference of two by twice that: 1e-14 * big is ample.
+  return 1e-14 * big + 1e-300;
+}
+
+void triangle_box(const double* t, double* box) {
+  for (int k = 0; k < 3; ++k) {
+    box[k] = std::min({t[k], t[3 + k], t[6 + k]});
+    box[3 + k] = std::max({t[k], t[3 + k], t[6 + k]});
+  }
+}
+
+struct NodePair {
+  std::uint32_t a, b;
+  double lower2;  // squared distance lower bound (distance queries)
+};
+
+thread_local std::vector<NodePair> t_stack;
+
+
+}  // namespace
+
+namespace {
+
+// Working-frame slots of the first intersecting pair found.
+struct FirstHit {
+  bool found = false;
+  std::uint32_t slot_a = 0, slot_b = 0;
+};
+
+// The collision traversal in a prepared working frame; stops after `limit`
+// pairs (>= 1).
+void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit) {
+  const auto& na = s.a.data->bvh.nodes;
+  const auto& nb = s.b.data->bvh.nodes;
+  std::vector<NodePair>& stack = t_stack;
+  stack.clear();
+  stack.push_back({0, 0, 0.0});
+  double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+  while (!stack.empty()) {
+    const NodePair p = stack.back();
+    stack.pop_back();
+    ++result.node_pairs_visited;
+    double size_a, size_b;
+    if (s.obb) {
+      if (s.obb_disjoint(p.a, p.b)) continue;
+      size_a = s.obb_size(p.a, true);
+      size_b = s.obb_size(p.b, false);
+    } else {
+      double alo[3], ahi[3], blo[3], bhi[3];
+      s.a.box(p.a, alo, ahi);
+      s.b.box(p.b, blo, bhi);
+      if (!boxes_overlap(alo, ahi, blo, bhi)) continue;
+      if (s.reverse_lower2(p.a, p.b) > 0.0) continue;
+      size_a = box_size(alo, ahi);
+      size_b = box_size(blo, bhi);
+    }
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    if (x.is_leaf() && y.is_leaf()) {
+      for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
+      for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
+      // Exact per-triangle box prefilter: the boxes come from the very
+      // doubles the exact test sees, so disjoint boxes prove disjointness.
+      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
+      for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
+      for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
+      for (std::uint32_t i = 0; i < x.count; ++i)
+        for (std::uint32_t j = 0; j < y.count; ++j) {
+          if (!boxes_overlap(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3)) continue;
+          const double* p0 = tri_a[i];
+          const double* q0 = tri_b[j];
+          ++result.triangle_pairs_tested;
+          if (!tri_tri_overlap(p0, p0 + 3, p0 + 6, q0, q0 + 3, q0 + 6)) continue;
+          std::uint32_t ia = s.a.data->bvh.prim_ids[x.index + i];
+          std::uint32_t ib = s.b.data->bvh.prim_ids[y.index + j];
+          if (s.swapped) std::swap(ia, ib);
+          if (hit && !hit->found) *hit = FirstHit{true, x.index + i, y.index + j};
+          result.collide = true;
+          result.triangle_pairs.emplace_back(ia, ib);
+          if (result.triangle_pairs.size() >= limit) return;
+        }
+      continue;
+    }
+    const bool split_a = !x.is_leaf() && (y.is_leaf() || size_a >= size_b);
+    if (split_a) {
+      stack.push_back({x.index + 1, p.b, 0.0});
+      stack.push_back({x.index, p.b, 0.0});
+    } else {
+      stack.push_back({p.a, y.index + 1, 0.0});
+      stack.push_back({p.a, y.index, 0.0});
+    }
+  }
+}
+
+}  // namespace
+
+void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+             const CollideRequest& request, CollideResult& result) {
+  result.collide = false;
+  result.triangle_pairs.clear();
+  result.node_pairs_visited = result.triangle_pairs_tested = 0;
+  if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
+  const Setup s = make_setup(a, ta, b, tb);
+  collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, nullptr);
+}
+
+void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+              const DistanceRequest& request, DistanceResult& result) {
+  result = DistanceResult{};
+  if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
+  const Setup s = make_setup(a, ta, b, tb);
+  if (!(request.upper_bound > 0.0)) return;  // no distance is below 0
+  {
+    // Intersection first: the collision traversal stops at the first hit
+    // and culls far harder than distance bounds, which cannot prune
+    // anything once pairs are at distance 0.
+    CollideResult c;
+    FirstHit hit;
+    collide_in(s, 1, c, &hit);
+    result.node_pairs_visited += c.node_pairs_visited;
+    result.triangle_pairs_tested += c.triangle_pairs_tested;
+    if (hit.found) {
+      double p[9], q[9];
+      s.a.triangle(hit.slot_a, p);
+      s.b.triangle(hit.slot_b, q);
+      const TriDistance d = tri_distance(p, q);  // intersecting: a common point
+      Vec3 pa = s.to_world * d.point_p, pb = s.to_world * d.point_q;
+      std::uint32_t ia = s.a.data->bvh.prim_ids[hit.slot_a];
+      std::uint32_t ib = s.b.data->bvh.prim_ids[hit.slot_b];
+      if (s.swapped) {
+        std::swap(ia, ib);
+        std::swap(pa, pb);
+      }
+      result.found = true;
+      result.distance = 0.0;
+      result.point_a = pa;
+      result.point_b = pb;
+      result.triangle_a = ia;
+      result.triangle_b = ib;
+      return;
+    }
+  }
+  const auto& na = s.a.data->bvh.nodes;
+  const auto& nb = s.b.data->bvh.nodes;
+  double best = request.upper_bound;
+  double best2 = best * best;
+  // Prune a node pair only when its lower bound clears the best distance by
+  // more than the rounding of the squared box gaps.
+  constexpr double kShrink = 1.0 - 1e-12;
+  auto lower2 = [&](std::uint32_t ia, std::uint32_t ib, double* sizes) {
+    if (s.obb) {
+      if (sizes) {
+        sizes[0] = s.obb_size(ia, true);
+        sizes[1] = s.obb_size(ib, false);
+      }
+      const double lb = s.obb_lower(ia, ib);
+      return lb * lb * kShrink;
+    }
+    double alo[3], ahi[3], blo[3], bhi[3];
+    s.a.box(ia, alo, ahi);
+    s.b.box(ib, blo, bhi);
+    if (sizes) {
+      sizes[0] = box_size(alo, ahi);
+      sizes[1] = box_size(blo, bhi);
+    }
+    const double forward = box_distance_squared(alo, ahi, blo, bhi);
+    return std::max(forward, s.reverse_lower2(ia, ib)) * kShrink;
+  };
+  std::vector<NodePair>& stack = t_stack;
+  stack.clear();
+  stack.push_back({0, 0, lower2(0, 0, nullptr)});
+  bool found = false;
+  std::uint32_t best_sa = 0, best_sb = 0;
+  Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
+  double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+  while (!stack.empty()) {
+    const NodePair p = stack.back();
+    stack.pop_back();
+    if (!(p.lower2 < best2)) continue;
+    ++result.node_pairs_visited;
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    if (x.is_leaf() && y.is_leaf()) {
+      for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
+      for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
+      // Separating-axis lower bound with the actual vertices, on the axis
+      // through the two leaves' vertex centroids: near the closest pair that
+      // axis is almost the optimal one, and unlike boxes the vertices carry
+      // no slack beyond the patches' own curvature.
+      double hi_a[kMaxLeafSize], lo_b[kMaxLeafSize];
+      const double slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
+      for (std::uint32_t i = 0; i < x.count; ++i)
+        for (std::uint32_t j = 0; j < y.count; ++j) {
+          if (lo_b[j] - hi_a[i] - slack >= best) continue;
+          ++result.triangle_pairs_tested;
+          const TriDistance d = tri_distance(tri_a[i], tri_b[j]);
+          if (!(d.distance < best)) continue;
+          found = true;
+          best = d.distance;
+          best2 = best * best;
+          best_sa = x.index + i;
+          best_sb = y.index + j;
+          best_pa = d.point_p;
+          best_pb = d.point_q;
+          if (best == 0.0) {
+            stack.clear();
+            break;
+          }
+        }
+      continue;
+    }
+    double sizes[2];
+    if (s.obb) {
+      sizes[0] = s.obb_size(p.a, true);
+      sizes[1] = s.obb_size(p.b, false);
+    } else {
+      lower2(p.a, p.b, sizes);
+    }
+    const bool split_a = !x.is_leaf() && (y.is_leaf() || sizes[0] >= sizes[1]);
+    NodePair c0, c1;
+    if (split_a) {
+      c0 = {x.index, p.b, lower2(x.index, p.b, nullptr)};
+      c1 = {x.index + 1, p.b, lower2(x.index + 1, p.b, nullptr)};
+    } else {
+      c0 = {p.a, y.index, lower2(p.a, y.index, nullptr)};
+      c1 = {p.a, y.index + 1, lower2(p.a, y.index + 1, nullptr)};
+    }
+    // Closer pair on top of the stack: visited first, it tightens the bound.
+    if (c0.lower2 < c1.lower2) std::swap(c0, c1);
+    if (c0.lower2 < best2) stack.push_back(c0);
+    if (c1.lower2 < best2) stack.push_back(c1);
+  }
+  if (!found) return;
+  result.found = true;
+  result.distance = best;
+  Vec3 pa = s.to_world * best_pa, pb = s.to_world * best_pb;
+  std::uint32_t ia = s.a.data->bvh.prim_ids[best_sa];
+  std::uint32_t ib = s.b.data->bvh.prim_ids[best_sb];
+  if (s.swapped) {
+    std::swap(ia, ib);
+    std::swap(pa, pb);
+  }
+  result.point_a = pa;
+  result.point_b = pb;
+  result.triangle_a = ia;
+  result.triangle_b = ib;
+}
+
+}  // namespace plancheck

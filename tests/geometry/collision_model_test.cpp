@@ -1,0 +1,279 @@
+// SPDX-License-Identifier: MIT
+#include "src/collision_model.h"
+
+#include "kernels/tri_tri_overlap.h"
+#include "support/brute_force.h"
+#include "src/parallel.h"
+#include "support/test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <string>
+
+namespace plancheck {
+namespace {
+
+using testing::brute_force_collide;
+using testing::brute_force_distance;
+using testing::posed_vertices;
+
+enum class PoseKind { kRigid, kScaleA, kScaleB, kScaleBoth };
+
+Affine random_rigid(std::mt19937_64& rng, const Vec3& around, double spread) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+  q.normalize();
+  Affine t = Affine::Identity();
+  t.linear() = q.toRotationMatrix();
+  t.translation() = around + spread * Vec3(u(rng), u(rng), u(rng));
+  return t;
+}
+
+Affine with_scale(const Affine& t, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> s(0.6, 1.6);
+  return t * Eigen::Scaling(s(rng), s(rng), s(rng));
+}
+
+// Distance from x to the posed triangle tri of mesh m.
+double point_to_triangle(const Vec3& x, const Mesh& m, const std::vector<Vec3>& v,
+                         std::uint32_t tri) {
+  const Vec3 t[3] = {v[m.triangles[tri][0]], v[m.triangles[tri][1]], v[m.triangles[tri][2]]};
+  const Vec3 q[3] = {x, x, x};
+  return static_cast<double>(testing::reference_tri_distance(t, q));
+}
+
+struct Stats {
+  int colliding = 0, separate = 0;
+};
+
+// Runs collide() and distance() for one pose and checks them against brute force.
+void check_pose(const Mesh& ma, const CollisionModel& a, const Affine& ta, const Mesh& mb,
+                const CollisionModel& b, const Affine& tb, Stats& stats, const std::string& what) {
+  SCOPED_TRACE(what);
+  const auto va = posed_vertices(ma, ta);
+  const auto vb = posed_vertices(mb, tb);
+  const auto expected = brute_force_collide(ma, va, mb, vb);
+
+  CollideResult all;
+  collide(a, ta, b, tb, CollideRequest{1u << 30}, all);
+  ASSERT_EQ(all.collide, !expected.empty());
+  // With no limit the listed pairs are exactly the brute-force set.
+  const std::set<std::pair<std::uint32_t, std::uint32_t>> got(all.triangle_pairs.begin(),
+                                                              all.triangle_pairs.end());
+  ASSERT_EQ(got.size(), all.triangle_pairs.size()) << "a pair listed twice";
+  using PairSet = std::set<std::pair<std::uint32_t, std::uint32_t>>;
+  const PairSet want(expected.begin(), expected.end());
+  ASSERT_EQ(got, want);
+  CollideResult first;
+  collide(a, ta, b, tb, CollideRequest{0}, first);
+  ASSERT_EQ(first.collide, all.collide);
+  ASSERT_EQ(first.triangle_pairs.size(), first.collide ? 1u : 0u);
+  CollideResult some;
+  collide(a, ta, b, tb, CollideRequest{3}, some);
+  ASSERT_EQ(some.triangle_pairs.size(), std::min<std::size_t>(3, expected.size()));
+  for (const auto& [i, j] : some.triangle_pairs) ASSERT_TRUE(got.count({i, j}));
+
+  const auto bd = brute_force_distance(ma, va, mb, vb);
+  DistanceResult d;
+  distance(a, ta, b, tb, DistanceRequest{}, d);
+  ASSERT_TRUE(d.found);
+  if (expected.empty()) {
+    ++stats.separate;
+    ASSERT_GT(d.distance, 0.0);
+    // The brute force rounds world coordinates (ulp 2.3e-10 at 1.7e6 m);
+    // the query works in a part frame. Allow 1e-12 relative, or a few ulps of
+    // the world coordinates where those dominate.
+    const double scale = 1.0 + va[0].cwiseAbs().maxCoeff();
+    ASSERT_NEAR(d.distance, bd.distance, std::max({1e-12 * bd.distance, 1e-15, 4e-15 * scale}));
+    ASSERT_NEAR((d.point_a - d.point_b).norm(), d.distance, 1e-12 * scale);
+    ASSERT_LE(point_to_triangle(d.point_a, ma, va, d.triangle_a), 1e-12 * scale);
+    ASSERT_LE(point_to_triangle(d.point_b, mb, vb, d.triangle_b), 1e-12 * scale);
+    // Pruning: the bound is strict, and a slightly larger one finds the same.
+    DistanceResult at, above, below;
+    distance(a, ta, b, tb, DistanceRequest{d.distance}, at);
+    EXPECT_FALSE(at.found);
+    distance(a, ta, b, tb, DistanceRequest{d.distance * (1 + 1e-9)}, above);
+    ASSERT_TRUE(above.found);
+    EXPECT_EQ(above.distance, d.distance);
+    distance(a, ta, b, tb, DistanceRequest{d.distance * (1 - 1e-9)}, below);
+    EXPECT_FALSE(below.found);
+  } else {
+    ++stats.colliding;
+    ASSERT_EQ(bd.distance, 0.0);
+    ASSERT_EQ(d.distance, 0.0);
+    ASSERT_TRUE(got.count({d.triangle_a, d.triangle_b}));
+    // A common point: on both reported triangles, to rounding.
+    const double scale = 1.0 + va[0].cwiseAbs().maxCoeff();
+    EXPECT_LE(point_to_triangle(d.point_a, ma, va, d.triangle_a), 1e-9 * scale);
+    EXPECT_LE(point_to_triangle(d.point_b, mb, vb, d.triangle_b), 1e-9 * scale);
+    DistanceResult bounded;
+    distance(a, ta, b, tb, DistanceRequest{0.0}, bounded);
+    EXPECT_FALSE(bounded.found);  // nothing is strictly below 0
+  }
+}
+
+void run_poses(const Mesh& ma, const Mesh& mb, const Vec3& offset, double spread, int poses,
+               std::uint64_t seed) {
+  const CollisionModel a(ma), b(mb);
+  EXPECT_EQ(a.triangle_count(), ma.triangles.size());
+  EXPECT_GT(a.memory_bytes(), ma.triangles.size() * 72);
+  std::mt19937_64 rng(seed);
+  Stats stats;
+  for (int i = 0; i < poses; ++i) {
+    for (PoseKind kind :
+         {PoseKind::kRigid, PoseKind::kScaleA, PoseKind::kScaleB, PoseKind::kScaleBoth}) {
+      Affine ta = random_rigid(rng, offset, 0.0);
+      Affine tb = random_rigid(rng, offset, spread);
+      if (kind == PoseKind::kScaleA || kind == PoseKind::kScaleBoth) ta = with_scale(ta, rng);
+      if (kind == PoseKind::kScaleB || kind == PoseKind::kScaleBoth) tb = with_scale(tb, rng);
+      check_pose(ma, a, ta, mb, b, tb, stats,
+                 "pose " + std::to_string(i) + " kind " + std::to_string(static_cast<int>(kind)));
+      if (::testing::Test::HasFatalFailure()) return;
+    }
+  }
+  // Both outcomes must occur for the comparison to cover both paths.
+  EXPECT_GT(stats.colliding, 0);
+  EXPECT_GT(stats.separate, 0);
+}
+
+TEST(CollisionModel, SphereVsTorusMatchesBruteForce) {
+  run_poses(testing::make_sphere(Vec3(0.2, 0, 0), 1.0, 16, 24),
+            testing::make_torus(Vec3(0, 0.1, 0), 1.2, 0.35, 24, 12), Vec3::Zero(), 2.0, 6, 1);
+}
+
+TEST(CollisionModel, SoupsMatchBruteForce) {
+  run_poses(testing::make_soup(11, 600, Vec3::Zero(), 1.0, 0.3),
+            testing::make_soup(12, 500, Vec3::Zero(), 1.0, 0.3), Vec3::Zero(), 1.5, 5, 2);
+}
+
+TEST(CollisionModel, FarFromOriginMatchesBruteForce) {
+  // Lunar-radius offsets: the parts' own frames are near the origin, the
+  // poses put them 1.7374e6 m away.
+  run_poses(testing::make_torus(Vec3::Zero(), 1.0, 0.3, 20, 10),
+            testing::make_sphere(Vec3::Zero(), 0.8, 12, 20), Vec3(1.7374e6, -2.5e5, 3.1e5), 1.8,
+            5, 3);
+}
+
+TEST(CollisionModel, IdentityPosesFindExactTouching) {
+  // Two unit squares sharing an edge exactly: touching is a collision and
+  // the distance is 0; moved apart by a tiny exact gap they are separate.
+  Mesh sq;
+  sq.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(1, 1, 0), Vec3(0, 1, 0)};
+  sq.triangles = {{0, 1, 2}, {0, 2, 3}};
+  Mesh other = sq;
+  for (Vec3& v : other.vertices) v.x() += 1.0;  // shares the edge x = 1
+  const CollisionModel a(sq), b(other);
+  CollideResult c;
+  collide(a, Affine::Identity(), b, Affine::Identity(), CollideRequest{}, c);
+  EXPECT_TRUE(c.collide);
+  DistanceResult d;
+  distance(a, Affine::Identity(), b, Affine::Identity(), DistanceRequest{}, d);
+  EXPECT_TRUE(d.found);
+  EXPECT_EQ(d.distance, 0.0);
+  for (Vec3& v : other.vertices) v.x() += 0x1p-40;
+  const CollisionModel b2(other);
+  collide(a, Affine::Identity(), b2, Affine::Identity(), CollideRequest{}, c);
+  EXPECT_FALSE(c.collide);
+  distance(a, Affine::Identity(), b2, Affine::Identity(), DistanceRequest{}, d);
+  EXPECT_EQ(d.distance, 0x1p-40);
+}
+
+TEST(CollisionModel, EmptyMeshes) {
+  const CollisionModel empty{Mesh{}};
+  const CollisionModel sphere(testing::make_sphere(Vec3::Zero(), 1, 8, 8));
+  CollideResult c;
+  collide(empty, Affine::Identity(), sphere, Affine::Identity(), CollideRequest{}, c);
+  EXPECT_FALSE(c.collide);
+  DistanceResult d;
+  distance(sphere, Affine::Identity(), empty, Affine::Identity(), DistanceRequest{}, d);
+  EXPECT_FALSE(d.found);
+}
+
+}  // namespace
+}  // namespace plancheck
+
+namespace plancheck {
+namespace {
+
+TEST(CollisionModel, ConcurrentQueriesMatchSerialOnes) {
+  const CollisionModel a(testing::make_torus(Vec3::Zero(), 1.0, 0.3, 40, 20));
+  const CollisionModel b(testing::make_sphere(Vec3::Zero(), 0.7, 16, 24));
+  std::mt19937_64 rng(8);
+  const int n = 64;
+  std::vector<Affine> poses;
+  for (int i = 0; i < n; ++i) poses.push_back(random_rigid(rng, Vec3::Zero(), 1.6));
+  std::vector<CollideResult> c_serial(n), c_par(n);
+  std::vector<DistanceResult> d_serial(n), d_par(n);
+  for (int i = 0; i < n; ++i) {
+    collide(a, Affine::Identity(), b, poses[i], CollideRequest{}, c_serial[i]);
+    distance(a, Affine::Identity(), b, poses[i], DistanceRequest{}, d_serial[i]);
+  }
+  parallel_for(n, 2, 1, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      collide(a, Affine::Identity(), b, poses[i], CollideRequest{}, c_par[i]);
+      distance(a, Affine::Identity(), b, poses[i], DistanceRequest{}, d_par[i]);
+    }
+  });
+  for (int i = 0; i < n; ++i) {
+    EXPECT_EQ(c_par[i].triangle_pairs, c_serial[i].triangle_pairs) << i;
+    EXPECT_EQ(d_par[i].distance, d_serial[i].distance) << i;
+    EXPECT_EQ(d_par[i].triangle_a, d_serial[i].triangle_a) << i;
+  }
+}
+
+}  // namespace
+}  // namespace plancheck
+
+namespace plancheck {
+namespace {
+
+Mesh unit_cube() {
+  Mesh m;
+  for (int i = 0; i < 8; ++i) m.vertices.push_back(Vec3(i & 1, (i >> 1) & 1, (i >> 2) & 1));
+  m.triangles = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
+                 {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+  return m;
+}
+
+// Rigid poses with exactly representable matrices (quarter turns, dyadic
+// shifts), so the working-frame coordinates are exact and face, edge and
+// vertex contacts are known exactly: culling must never drop them.
+TEST(CollisionModel, ExactContactsUnderQuarterTurns) {
+  const Mesh cube = unit_cube();
+  const CollisionModel a(cube), b(cube);
+  Affine turn = Affine::Identity();
+  turn.linear() << 0, -1, 0, 1, 0, 0, 0, 0, 1;  // quarter turn about z
+  const Vec3 offsets[] = {Vec3(2, 0, 0.5), Vec3(2, 1, 1), Vec3(2, 1, 0.25), Vec3(2, -1, -1)};
+  // The turned cube spans x in [-1, 0] before the shift: shifted by 2 in x
+  // its face x = 1 meets a's face x = 1.
+  for (const Vec3& o : offsets) {
+    for (double gap : {0.0, 0x1p-30, 0x1p-50}) {
+      Affine tb = turn;
+      tb.translation() = o + Vec3(gap, 0, 0);
+      const bool touching = gap == 0.0;
+      CollideResult c;
+      collide(a, Affine::Identity(), b, tb, CollideRequest{}, c);
+      EXPECT_EQ(c.collide, touching) << o.transpose() << " gap " << gap;
+      const auto brute = testing::brute_force_collide(cube, cube.vertices, cube,
+                                                      testing::posed_vertices(cube, tb));
+      EXPECT_EQ(!brute.empty(), touching);
+      DistanceResult d;
+      distance(a, Affine::Identity(), b, tb, DistanceRequest{}, d);
+      ASSERT_TRUE(d.found);
+      EXPECT_EQ(d.distance, gap) << o.transpose();
+      // The same with a rotated (non-identity) frame for a.
+      Affine ta = turn;
+      CollideResult c2;
+      collide(a, ta, b, ta * tb, CollideRequest{}, c2);
+      EXPECT_EQ(c2.collide, touching);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace plancheck
