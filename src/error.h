@@ -19,9 +19,9 @@ class InputError : public std::runtime_error {
 inline std::string located(const std::filesystem::path& file, const std::string& what,
                            long line = 0, long column = 0) {
   std::string s = file.string();
-  if (line > 0) s += ":" + std::to_string(line);
-  if (line > 0 && column > 0) s += ":" + std::to_string(column);
-  return s + ": " + what;
+  if (line > 0) s.append(":").append(std::to_string(line));
+  if (line > 0 && column > 0) s.append(":").append(std::to_string(column));
+  return s.append(": ").append(what);
 }
 
 [[noreturn]] inline void fail(const std::filesystem::path& file, const std::string& what,

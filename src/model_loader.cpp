@@ -249,7 +249,6 @@ class Builder {
   void build() {
     if (is_3ds(file_)) tds_objects_ = TdsReader(file_).objects();
     const aiNode* root = ai_.mRootNode;
-    int root_index = add_node(root->mName.C_Str(), -1);
     Mat4 root_global = to_eigen(root->mTransformation);
     if (is_3ds(file_)) {
       // assimp's 3ds importer prepends a z-up -> y-up turn (x, y, z) -> (x, z, -y)
@@ -259,6 +258,7 @@ class Builder {
       y_up_to_z_up.topLeftCorner<3, 3>() << 1, 0, 0, 0, 0, -1, 0, 1, 0;
       root_global = y_up_to_z_up * root_global;
     }
+    const int root_index = add_node(root->mName.C_Str(), -1, root_global);
     attach_meshes(root, root_global, root_index);
     if (is_3ds(file_) && std::strcmp(root->mName.C_Str(), "<3DSDummyRoot>") == 0) {
       build_flat_3ds(root, root_global, root_index);
@@ -269,10 +269,11 @@ class Builder {
   }
 
  private:
-  int add_node(const std::string& name, int parent) {
+  int add_node(const std::string& name, int parent, const Mat4& global) {
     Node n;
     n.name = name;
     n.parent = parent;
+    n.origin = global.topRightCorner<3, 1>() * scale_;
     int index = static_cast<int>(scene_.nodes.size());
     if (parent >= 0) scene_.nodes[parent].children.push_back(index);
     scene_.nodes.push_back(std::move(n));
@@ -364,7 +365,7 @@ class Builder {
       attach_meshes(node, global, parent);
       return;
     }
-    int index = add_node(name, parent);
+    int index = add_node(name, parent, global);
     attach_meshes(node, global, index);
     for (unsigned i = 0; i < node->mNumChildren; ++i) walk(node->mChildren[i], global, index);
   }
@@ -384,7 +385,7 @@ class Builder {
       if (found != by_object.end() && child->mNumMeshes > 0) {
         index = found->second;
       } else {
-        index = add_node(name, root_index);
+        index = add_node(name, root_index, global);
         if (child->mNumMeshes > 0) by_object[name] = index;
       }
       attach_meshes(child, global, index, true);

@@ -39,6 +39,7 @@ struct Node {
   std::vector<int> children;
   int part = -1;               // index into Scene::parts when the node owns triangles
   std::vector<int> actions;    // indices into Scene::actions carried by this node
+  Vec3 origin = Vec3::Zero();  // the node's own frame origin at the reference pose (m)
 };
 
 enum class ActionType { kRotate, kTranslateAxis, kTranslateFree, kScale };
