@@ -73,7 +73,7 @@ using Joints = std::array<double, 4>;
 struct JointLimits {
   double lower, upper;
 };
-inline constexpr std::array<JointLimits, 4> kLimits{{{-180, 180}, {-20, 115}, {-165, 5}, {-80, 150}}};
+inline constexpr std::array<JointLimits, 4> kLimits{{{-180, 180}, {-20, 135}, {-165, 5}, {-80, 150}}};
 
 // Rigid transforms of the moving chains J1, J1J2, J1J2J3, J1J2J3J4 per the
 // scene contract's composition rule A1(A2(...Ak(x))).

@@ -123,22 +123,31 @@ Checker::Checker(const Model& model, const std::vector<double>& dem,
       int chain = -1;
       for (int k = 0; k < 4; ++k)
         if (model.in_subtree(static_cast<int>(i), model.find(joints[k]))) chain = k;
-      moving_.push_back({n.name, chain, std::move(tris)});
+      Eigen::AlignedBox3d box;
+      std::vector<Eigen::AlignedBox3d> clusters;
+      for (std::size_t k = 0; k < tris.size(); ++k) {
+        if (k % kCluster == 0) clusters.emplace_back(box_of(tris[k]));
+        else clusters.back().extend(box_of(tris[k]));
+        box.extend(box_of(tris[k]));
+      }
+      moving_.push_back({n.name, chain, std::move(tris), box, std::move(clusters)});
     } else {
       int owner = static_cast<int>(static_parts_.size());
       Eigen::AlignedBox3d box;
+      std::size_t first = static_tris_.size();
       for (const Triangle& t : tris) {
         box.extend(box_of(t));
         static_tris_.push_back(t);
         static_owner_.push_back(owner);
       }
-      static_parts_.push_back({n.name, box});
+      static_parts_.push_back({n.name, box, first, tris.size(), {}});
     }
   }
   // The DEM as two triangles per square between cell centres.
   {
     int owner = static_cast<int>(static_parts_.size());
     Eigen::AlignedBox3d box;
+    std::size_t first = static_tris_.size();
     const double size = kDemSize * kDemCell;
     auto at = [&](int r, int c) {
       return Vec3(kDemOrigin.x() + (c + 0.5) * kDemCell, kDemOrigin.y() + size - (r + 0.5) * kDemCell,
@@ -153,37 +162,38 @@ Checker::Checker(const Model& model, const std::vector<double>& dem,
           static_owner_.push_back(owner);
         }
       }
-    static_parts_.push_back({"terrain", box});
+    static_parts_.push_back({"terrain", box, first, static_tris_.size() - first, {}});
   }
-  // Grid.
-  Eigen::AlignedBox3d all;
-  for (const Triangle& t : static_tris_) {
-    static_boxes_.push_back(box_of(t));
-    all.extend(static_boxes_.back());
+  for (const Triangle& t : static_tris_) static_boxes_.push_back(box_of(t));
+  for (StaticPart& part : static_parts_) {
+    Grid& g = part.grid;
+    g.min = part.box.min() - Vec3::Constant(1e-6);
+    Vec3 ext = part.box.max() - g.min;
+    g.nx = static_cast<int>(ext.x() / cell_) + 1;
+    g.ny = static_cast<int>(ext.y() / cell_) + 1;
+    g.nz = static_cast<int>(ext.z() / cell_) + 1;
+    std::size_t cells = static_cast<std::size_t>(g.nx) * g.ny * g.nz;
+    std::vector<std::uint32_t> count(cells + 1, 0);
+    for (std::size_t i = part.first; i < part.first + part.count; ++i)
+      for_cells(g, static_boxes_[i], [&](std::size_t c) { ++count[c + 1]; });
+    for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
+    g.start = count;
+    g.items.resize(count.back());
+    std::vector<std::uint32_t> fill(count.begin(), count.end() - 1);
+    for (std::size_t i = part.first; i < part.first + part.count; ++i)
+      for_cells(g, static_boxes_[i], [&](std::size_t c) { g.items[fill[c]++] = static_cast<std::uint32_t>(i); });
   }
-  grid_min_ = all.min() - Vec3::Constant(1e-6);
-  Vec3 ext = all.max() - grid_min_;
-  nx_ = static_cast<int>(ext.x() / cell_) + 1;
-  ny_ = static_cast<int>(ext.y() / cell_) + 1;
-  nz_ = static_cast<int>(ext.z() / cell_) + 1;
-  std::size_t cells = static_cast<std::size_t>(nx_) * ny_ * nz_;
-  std::vector<std::uint32_t> count(cells + 1, 0);
-  auto range = [&](const Eigen::AlignedBox3d& b, auto&& fn) {
-    Vec3 lo = (b.min() - grid_min_) / cell_, hi = (b.max() - grid_min_) / cell_;
-    int x0 = std::max(0, static_cast<int>(std::floor(lo.x()))), x1 = std::min(nx_ - 1, static_cast<int>(std::floor(hi.x())));
-    int y0 = std::max(0, static_cast<int>(std::floor(lo.y()))), y1 = std::min(ny_ - 1, static_cast<int>(std::floor(hi.y())));
-    int z0 = std::max(0, static_cast<int>(std::floor(lo.z()))), z1 = std::min(nz_ - 1, static_cast<int>(std::floor(hi.z())));
-    for (int z = z0; z <= z1; ++z)
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) fn((static_cast<std::size_t>(z) * ny_ + y) * nx_ + x);
-  };
-  for (const auto& b : static_boxes_) range(b, [&](std::size_t c) { ++count[c + 1]; });
-  for (std::size_t c = 0; c < cells; ++c) count[c + 1] += count[c];
-  cell_start_ = count;
-  cell_items_.resize(count.back());
-  std::vector<std::uint32_t> fill(count.begin(), count.end() - 1);
-  for (std::size_t i = 0; i < static_boxes_.size(); ++i)
-    range(static_boxes_[i], [&](std::size_t c) { cell_items_[fill[c]++] = static_cast<std::uint32_t>(i); });
+}
+
+template <class Fn>
+void Checker::for_cells(const Grid& g, const Eigen::AlignedBox3d& b, Fn&& fn) const {
+  Vec3 lo = (b.min() - g.min) / cell_, hi = (b.max() - g.min) / cell_;
+  int x0 = std::max(0, static_cast<int>(std::floor(lo.x()))), x1 = std::min(g.nx - 1, static_cast<int>(std::floor(hi.x())));
+  int y0 = std::max(0, static_cast<int>(std::floor(lo.y()))), y1 = std::min(g.ny - 1, static_cast<int>(std::floor(hi.y())));
+  int z0 = std::max(0, static_cast<int>(std::floor(lo.z()))), z1 = std::min(g.nz - 1, static_cast<int>(std::floor(hi.z())));
+  for (int z = z0; z <= z1; ++z)
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) fn((static_cast<std::size_t>(z) * g.ny + y) * g.nx + x);
 }
 
 bool Checker::allowed(const std::string& a, const std::string& b) const { return allowed_.count({a, b}) > 0; }
@@ -203,80 +213,113 @@ StateCheck Checker::check(const Joints& q) const {
       out.part_b = b;
     }
   };
-  constexpr std::size_t kCluster = 32;
+  auto rough = [](const Affine& pose, const Eigen::AlignedBox3d& b) {
+    Eigen::AlignedBox3d r;
+    for (int k = 0; k < 8; ++k) r.extend(pose * b.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k)));
+    return r;
+  };
+  // Two-level pruning: conservative world boxes of whole parts and of
+  // clusters of 32 triangles (the reference box's corners posed); a cluster's
+  // triangles are posed only when its rough box comes within reach.
   struct Posed {
+    Eigen::AlignedBox3d box;                       // rough, whole part
+    std::vector<Eigen::AlignedBox3d> rough;        // rough, per cluster
+    std::vector<char> done;                        // cluster posed?
     std::vector<Triangle> tris;
-    std::vector<Eigen::AlignedBox3d> boxes, cluster_boxes;
-    Eigen::AlignedBox3d box;
+    std::vector<Eigen::AlignedBox3d> boxes;        // exact, per posed triangle
+    std::vector<Eigen::AlignedBox3d> exact;        // exact, per posed cluster
   };
   std::vector<Posed> posed(moving_.size());
   for (std::size_t m = 0; m < moving_.size(); ++m) {
     const Affine& pose = poses[static_cast<std::size_t>(moving_[m].chain)];
-    Posed& p = posed[m];
-    for (const Triangle& t : moving_[m].tris) {
-      Triangle u{{pose * t.p[0], pose * t.p[1], pose * t.p[2]}};
-      p.tris.push_back(u);
-      p.boxes.push_back(box_of(u));
-      p.box.extend(p.boxes.back());
-      if ((p.tris.size() - 1) % kCluster == 0) p.cluster_boxes.emplace_back(p.boxes.back());
-      else p.cluster_boxes.back().extend(p.boxes.back());
-    }
+    posed[m].box = rough(pose, moving_[m].box);
   }
-  std::vector<std::uint32_t> stamp(static_tris_.size(), 0);
-  std::uint32_t epoch = 0;
+  auto cluster_rough = [&](std::size_t m, std::size_t c) -> const Eigen::AlignedBox3d& {
+    Posed& p = posed[m];
+    if (p.rough.empty()) {
+      const Affine& pose = poses[static_cast<std::size_t>(moving_[m].chain)];
+      for (const auto& b : moving_[m].cluster_boxes) p.rough.push_back(rough(pose, b));
+      p.done.assign(moving_[m].cluster_boxes.size(), 0);
+      p.tris.resize(moving_[m].tris.size());
+      p.boxes.resize(moving_[m].tris.size());
+      p.exact.resize(moving_[m].cluster_boxes.size());
+    }
+    return p.rough[c];
+  };
+  auto pose_cluster = [&](std::size_t m, std::size_t c) {
+    Posed& p = posed[m];
+    cluster_rough(m, c);
+    if (p.done[c]) return;
+    p.done[c] = 1;
+    const Affine& pose = poses[static_cast<std::size_t>(moving_[m].chain)];
+    Eigen::AlignedBox3d e;
+    for (std::size_t i = c * kCluster; i < std::min(p.tris.size(), (c + 1) * kCluster); ++i) {
+      const Triangle& t = moving_[m].tris[i];
+      p.tris[i] = Triangle{{pose * t.p[0], pose * t.p[1], pose * t.p[2]}};
+      p.boxes[i] = box_of(p.tris[i]);
+      e.extend(p.boxes[i]);
+    }
+    p.exact[c] = e;
+  };
+
+  // Per-call dedupe stamps; a thread-local buffer keeps check() const and cheap.
+  thread_local std::vector<std::uint32_t> stamp;
+  thread_local std::uint32_t epoch = 0;
+  if (stamp.size() != static_tris_.size()) {
+    stamp.assign(static_tris_.size(), 0);
+    epoch = 0;
+  }
   // Moving against static.
   for (std::size_t m = 0; m < moving_.size(); ++m) {
-    const Posed& p = posed[m];
-    std::vector<char> live(static_parts_.size(), 0);
-    bool any = false;
-    for (std::size_t s = 0; s < static_parts_.size(); ++s)
-      if (!allowed(moving_[m].name, static_parts_[s].name) && box_distance(p.box, static_parts_[s].box) <= best) live[s] = any = true;
-    if (!any) continue;
-    for (std::size_t c = 0; c < p.cluster_boxes.size(); ++c) {
-      Eigen::AlignedBox3d q_box = p.cluster_boxes[c];
-      q_box.min() -= Vec3::Constant(best);
-      q_box.max() += Vec3::Constant(best);
-      ++epoch;
-      Vec3 lo = (q_box.min() - grid_min_) / cell_, hi = (q_box.max() - grid_min_) / cell_;
-      int x0 = std::max(0, static_cast<int>(std::floor(lo.x()))), x1 = std::min(nx_ - 1, static_cast<int>(std::floor(hi.x())));
-      int y0 = std::max(0, static_cast<int>(std::floor(lo.y()))), y1 = std::min(ny_ - 1, static_cast<int>(std::floor(hi.y())));
-      int z0 = std::max(0, static_cast<int>(std::floor(lo.z()))), z1 = std::min(nz_ - 1, static_cast<int>(std::floor(hi.z())));
-      for (int z = z0; z <= z1; ++z)
-        for (int y = y0; y <= y1; ++y)
-          for (int x = x0; x <= x1; ++x) {
-            std::size_t cell = (static_cast<std::size_t>(z) * ny_ + y) * nx_ + x;
-            for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-              std::uint32_t s = cell_items_[k];
-              if (stamp[s] == epoch) continue;
-              stamp[s] = epoch;
-              int owner = static_owner_[s];
-              if (!live[static_cast<std::size_t>(owner)]) continue;
-              if (box_distance(p.cluster_boxes[c], static_boxes_[s]) > best) continue;
-              std::size_t end = std::min(p.tris.size(), (c + 1) * kCluster);
-              for (std::size_t i = c * kCluster; i < end; ++i) {
-                if (box_distance(p.boxes[i], static_boxes_[s]) > best) continue;
-                consider(triangle_distance(p.tris[i], static_tris_[s]), moving_[m].name, static_parts_[static_cast<std::size_t>(owner)].name);
-              }
+    for (std::size_t owner = 0; owner < static_parts_.size(); ++owner) {
+      const StaticPart& part = static_parts_[owner];
+      if (allowed(moving_[m].name, part.name) || box_distance(posed[m].box, part.box) > best) continue;
+      for (std::size_t c = 0; c < moving_[m].cluster_boxes.size(); ++c) {
+        if (box_distance(cluster_rough(m, c), part.box) > best) continue;
+        pose_cluster(m, c);
+        const Posed& p = posed[m];
+        if (box_distance(p.exact[c], part.box) > best) continue;
+        Eigen::AlignedBox3d q_box = p.exact[c];
+        q_box.min() -= Vec3::Constant(best);
+        q_box.max() += Vec3::Constant(best);
+        ++epoch;
+        for_cells(part.grid, q_box, [&](std::size_t cell) {
+          for (std::uint32_t k = part.grid.start[cell]; k < part.grid.start[cell + 1]; ++k) {
+            std::uint32_t s = part.grid.items[k];
+            if (stamp[s] == epoch) continue;
+            stamp[s] = epoch;
+            if (box_distance(p.exact[c], static_boxes_[s]) > best) continue;
+            std::size_t end = std::min(p.tris.size(), (c + 1) * kCluster);
+            for (std::size_t i = c * kCluster; i < end; ++i) {
+              if (box_distance(p.boxes[i], static_boxes_[s]) > best) continue;
+              consider(triangle_distance(p.tris[i], static_tris_[s]), moving_[m].name, part.name);
             }
           }
+        });
+      }
     }
   }
   // Moving against moving on different chains.
   for (std::size_t a = 0; a < moving_.size(); ++a)
     for (std::size_t b = a + 1; b < moving_.size(); ++b) {
       if (moving_[a].chain == moving_[b].chain || allowed(moving_[a].name, moving_[b].name)) continue;
-      const Posed& pa = posed[a];
-      const Posed& pb = posed[b];
-      if (box_distance(pa.box, pb.box) > best) continue;
-      for (std::size_t ca = 0; ca < pa.cluster_boxes.size(); ++ca)
-        for (std::size_t cb = 0; cb < pb.cluster_boxes.size(); ++cb) {
-          if (box_distance(pa.cluster_boxes[ca], pb.cluster_boxes[cb]) > best) continue;
+      if (box_distance(posed[a].box, posed[b].box) > best) continue;
+      for (std::size_t ca = 0; ca < moving_[a].cluster_boxes.size(); ++ca) {
+        if (box_distance(cluster_rough(a, ca), posed[b].box) > best) continue;
+        for (std::size_t cb = 0; cb < moving_[b].cluster_boxes.size(); ++cb) {
+          if (box_distance(cluster_rough(a, ca), cluster_rough(b, cb)) > best) continue;
+          pose_cluster(a, ca);
+          pose_cluster(b, cb);
+          const Posed& pa = posed[a];
+          const Posed& pb = posed[b];
+          if (box_distance(pa.exact[ca], pb.exact[cb]) > best) continue;
           for (std::size_t i = ca * kCluster; i < std::min(pa.tris.size(), (ca + 1) * kCluster); ++i)
             for (std::size_t j = cb * kCluster; j < std::min(pb.tris.size(), (cb + 1) * kCluster); ++j) {
               if (box_distance(pa.boxes[i], pb.boxes[j]) > best) continue;
               consider(triangle_distance(pa.tris[i], pb.tris[j]), moving_[a].name, moving_[b].name);
             }
         }
+      }
     }
   out.min_distance = best;
   return out;

@@ -38,16 +38,29 @@ class Checker {
   StateCheck check(const Joints& q) const;
 
  private:
+  // A uniform grid over one static part's triangles (CSR layout).
+  struct Grid {
+    Vec3 min = Vec3::Zero();
+    int nx = 0, ny = 0, nz = 0;
+    std::vector<std::uint32_t> start, items;  // items: indices into static_tris_
+  };
   struct StaticPart {
     std::string name;
     Eigen::AlignedBox3d box;
+    std::size_t first = 0, count = 0;  // range in static_tris_
+    Grid grid;
   };
   struct MovingPart {
     std::string name;
     int chain;  // 0..3: J1..J4
     std::vector<Triangle> tris;  // reference frame
+    Eigen::AlignedBox3d box;     // reference frame
+    std::vector<Eigen::AlignedBox3d> cluster_boxes;  // reference frame, kCluster triangles each
   };
+  static constexpr std::size_t kCluster = 32;
   bool allowed(const std::string& a, const std::string& b) const;
+  template <class Fn>
+  void for_cells(const Grid& g, const Eigen::AlignedBox3d& b, Fn&& fn) const;
 
   std::vector<StaticPart> static_parts_;
   std::vector<Triangle> static_tris_;
@@ -56,11 +69,7 @@ class Checker {
   std::vector<MovingPart> moving_;
   std::set<std::pair<std::string, std::string>> allowed_;
   double cutoff_;
-  // Uniform grid over the static triangles (CSR layout).
-  Vec3 grid_min_;
   double cell_ = 0.1;
-  int nx_ = 0, ny_ = 0, nz_ = 0;
-  std::vector<std::uint32_t> cell_start_, cell_items_;
 };
 
 }  // namespace plancheck::dataset

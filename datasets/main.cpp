@@ -24,7 +24,7 @@ namespace plancheck::dataset {
 namespace {
 
 constexpr double kSafetyMargin = 0.05;
-constexpr double kCheckCutoff = 0.12;  // distances above this are not needed
+constexpr double kCheckCutoff = 0.10;  // distances above this are not needed
 constexpr double kTolerance = 0.02;
 
 const std::vector<std::pair<std::string, std::string>> kAllowed{

@@ -96,6 +96,7 @@ struct Site {
 };
 
 const Joints kStow{0.0, 40.0, -100.0, 60.0};
+constexpr double kPourTilt = 80.0;  // deg the scoop tips forward over the can
 
 Vec3 radial_at(const Vec3& p) {
   return Vec3(p.x() - kShoulderPivot.x(), p.y() - kShoulderPivot.y(), 0).normalized();
@@ -112,10 +113,10 @@ std::vector<Waypoint> scoop_at(const std::vector<double>& dem, const Site& site,
   std::vector<Waypoint> w;
   w.push_back(joint(start, 0));
   w.push_back(pose(Vec3(entry.x(), entry.y(), ground(entry) + 0.25), -15.0, 6.0, false));
-  w.push_back(pose(Vec3(entry.x(), entry.y(), ground(entry) + 0.01), -25.0, 2.0, true));
+  w.push_back(pose(Vec3(entry.x(), entry.y(), ground(entry) + 0.01), -20.0, 2.0, true));
   w.push_back(pose(Vec3(s.x(), s.y(), ground(s) - 0.03), -10.0, 1.5, true));
-  w.push_back(pose(Vec3(drag_end.x(), drag_end.y(), ground(drag_end) - 0.03), 10.0, 1.5, true));
-  w.push_back(pose(Vec3(drag_end.x(), drag_end.y(), ground(drag_end) + 0.30), 15.0, 2.0, true));
+  w.push_back(pose(Vec3(drag_end.x(), drag_end.y(), ground(drag_end) - 0.03), 0.0, 1.5, true));
+  w.push_back(pose(Vec3(drag_end.x(), drag_end.y(), ground(drag_end) + 0.30), 10.0, 2.0, true));
   return w;
 }
 
@@ -131,7 +132,7 @@ void empty_into_can(std::vector<Waypoint>& w, double transit_j2_extra = 0.0) {
   w.push_back(joint(mid, 5.0));
   w.push_back(joint(over, 4.0));
   Joints pour = over;
-  pour[3] = std::max(kLimits[3].lower + 8.0, over[3] - 100.0);
+  pour[3] = std::max(kLimits[3].lower + 8.0, over[3] - kPourTilt);
   w.push_back(joint(pour, 2.0));
 }
 
@@ -140,11 +141,14 @@ PlanOut make(const std::string& name, const std::string& task, const std::string
   return {name, task, designed, interpolate(w, states)};
 }
 
-// Minimum over a plan's states (capped at the checker's cutoff).
-double plan_min_distance(const Checker& checker, const std::vector<Joints>& states, bool& collided) {
+// Minimum over the states whose scoop is within `radius` of `near`
+// (capped at the checker's cutoff).
+double plan_min_distance(const Checker& checker, const std::vector<Joints>& states, const Vec3& near, double radius,
+                         bool& collided) {
   double best = 1e9;
   collided = false;
   for (const Joints& q : states) {
+    if ((scoop_bottom(q) - near).norm() > radius) continue;
     StateCheck c = checker.check(q);
     best = std::min(best, c.min_distance);
     collided = collided || c.collision;
@@ -194,7 +198,7 @@ std::vector<PlanOut> build_plans(const std::vector<double>& dem, const Checker& 
   // the first bad state is already a collision).
   auto low_swing = [&](int i, double via_z, double weight) {
     auto w = scoop_at(dem, sites[i], kStow);
-    Vec3 via = Vec3(kShoulderPivot.x(), kShoulderPivot.y(), 0) + 1.55 * Vec3(std::cos(rad(105)), std::sin(rad(105)), 0);
+    Vec3 via = Vec3(kShoulderPivot.x(), kShoulderPivot.y(), 0) + 2.0 * Vec3(std::cos(rad(102)), std::sin(rad(102)), 0);
     via.z() = via_z;
     w.push_back(pose(via, 0.0, weight, false));
     empty_into_can(w);
@@ -209,15 +213,16 @@ std::vector<PlanOut> build_plans(const std::vector<double>& dem, const Checker& 
   // approach to the wing is about 3 cm: inside the 5 cm margin, no contact.
   {
     double lo = 1.10, hi = 1.40;  // via heights: lo too low, hi clear
-    for (int it = 0; it < 18; ++it) {
+    for (int it = 0; it < 12; ++it) {
       double mid = 0.5 * (lo + hi);
       bool hit = false;
-      double d = plan_min_distance(checker, interpolate(low_swing(6, mid, 1.5), kPlanStates[6]), hit);
+      Vec3 via = Vec3(kShoulderPivot.x(), kShoulderPivot.y(), mid) + 2.0 * Vec3(std::cos(rad(102)), std::sin(rad(102)), 0);
+      double d = plan_min_distance(checker, interpolate(low_swing(6, mid, 4.0), kPlanStates[6]), via, 0.8, hit);
       if (hit || d < 0.03) lo = mid;
       else hi = mid;
     }
     plans.push_back(make("plan07", "scoop at the left edge, pass 3 cm over the +y solar wing (designed clearance violation)",
-                         "clearance", low_swing(6, hi, 1.5), kPlanStates[6]));
+                         "clearance", low_swing(6, hi, 4.0), kPlanStates[6]));
   }
   plans.push_back(standard(7, "scoop left, empty into the storage can"));
   // plan09: transit with the shoulder raised past its 115 deg limit.
@@ -230,7 +235,7 @@ std::vector<PlanOut> build_plans(const std::vector<double>& dem, const Checker& 
     w.push_back(joint(up, 5.0));
     w.push_back(joint(over, 4.0));
     Joints pour = over;
-    pour[3] = std::max(kLimits[3].lower + 8.0, over[3] - 100.0);
+    pour[3] = std::max(kLimits[3].lower + 8.0, over[3] - kPourTilt);
     w.push_back(joint(pour, 2.0));
     plans.push_back(make("plan09", "scoop near the centre, transit with J2 past its upper limit (designed limits violation)",
                          "limits", w, kPlanStates[8]));
