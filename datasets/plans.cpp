@@ -96,7 +96,7 @@ struct Site {
 };
 
 const Joints kStow{0.0, 40.0, -100.0, 60.0};
-constexpr double kPourTilt = 80.0;  // deg the scoop tips forward over the can
+constexpr double kPourTilt = 70.0;  // deg the scoop is tipped nose down to pour
 
 Vec3 radial_at(const Vec3& p) {
   return Vec3(p.x() - kShoulderPivot.x(), p.y() - kShoulderPivot.y(), 0).normalized();
@@ -120,6 +120,11 @@ std::vector<Waypoint> scoop_at(const std::vector<double>& dem, const Site& site,
   return w;
 }
 
+// The scoop tipped nose down with its bottom point over the can's opening.
+Waypoint pour_pose(double weight) {
+  return pose(kCanCentre + Vec3(0, 0, kCanHeight + 0.30), -kPourTilt, weight, false);
+}
+
 // Over the can, then the scoop tips forward to pour.
 void empty_into_can(std::vector<Waypoint>& w, double transit_j2_extra = 0.0) {
   Vec3 above = kCanCentre + Vec3(0, 0, kCanHeight + 0.32);
@@ -131,9 +136,7 @@ void empty_into_can(std::vector<Waypoint>& w, double transit_j2_extra = 0.0) {
   mid[3] -= transit_j2_extra;
   w.push_back(joint(mid, 5.0));
   w.push_back(joint(over, 4.0));
-  Joints pour = over;
-  pour[3] = std::max(kLimits[3].lower + 8.0, over[3] - kPourTilt);
-  w.push_back(joint(pour, 2.0));
+  w.push_back(pour_pose(2.0));
 }
 
 PlanOut make(const std::string& name, const std::string& task, const std::string& designed, const std::vector<Waypoint>& w,
@@ -205,7 +208,7 @@ std::vector<PlanOut> build_plans(const std::vector<double>& dem, const Checker& 
     return w;
   };
   plans.push_back(make("plan04", "scoop at the left edge, swing low over the +y solar wing (designed collision)", "collision",
-                       low_swing(3, 1.07, 0.6), kPlanStates[3]));
+                       low_swing(3, 1.07, 2.0), kPlanStates[3]));
   plans.push_back(standard(4, "scoop far out, empty into the storage can"));
   plans.push_back(standard(5, "scoop at the right edge, empty into the storage can"));
 
@@ -234,9 +237,7 @@ std::vector<PlanOut> build_plans(const std::vector<double>& dem, const Checker& 
     up[3] = over[3] - 6.0;
     w.push_back(joint(up, 5.0));
     w.push_back(joint(over, 4.0));
-    Joints pour = over;
-    pour[3] = std::max(kLimits[3].lower + 8.0, over[3] - kPourTilt);
-    w.push_back(joint(pour, 2.0));
+    w.push_back(pour_pose(2.0));
     plans.push_back(make("plan09", "scoop near the centre, transit with J2 past its upper limit (designed limits violation)",
                          "limits", w, kPlanStates[8]));
   }
