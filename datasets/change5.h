@@ -14,10 +14,10 @@ namespace plancheck::dataset {
 
 // ---- Fixed layout (metres, z up, ground z = 0, lander centre at x = y = 0) ----
 inline constexpr double kDeckTop = 1.35;               // top of the lander deck plate
-inline const Vec3 kShoulderPivot{0.90, 0.0, 1.62};     // J2 axis point; J1 axis is x=0.9, y=0
-inline const Vec3 kElbowPivot{2.50, 0.0, 1.62};        // J3 axis point at the reference pose
-inline const Vec3 kWristPivot{4.10, 0.0, 1.62};        // J4 axis point at the reference pose
-inline const Vec3 kScoopBottom{4.40, 0.0, 1.32};       // M at the reference pose
+inline const Vec3 kShoulderPivot{0.90, 0.0, 1.66};     // J2 axis point; J1 axis is x=0.9, y=0
+inline const Vec3 kElbowPivot{2.50, 0.0, 1.66};        // J3 axis point at the reference pose
+inline const Vec3 kWristPivot{4.10, 0.0, 1.66};        // J4 axis point at the reference pose
+inline const Vec3 kScoopBottom{4.40, 0.0, 1.36};       // M at the reference pose
 inline constexpr double kUpperArm = 1.60;
 inline constexpr double kForearm = 1.60;
 inline const Vec3 kCanCentre{0.40, 0.85, kDeckTop};    // sample storage can, base centre

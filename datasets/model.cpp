@@ -71,7 +71,7 @@ void build_lander(TreeBuilder& t, int lander) {
   {
     // Shoulder base of the arm: the static mount J1 turns on.
     MeshBuilder mb;
-    mb.cylinder({0.90, 0, kDeckTop}, {0.90, 0, 1.47}, 0.12, 96, 6);
+    mb.cylinder({0.90, 0, kDeckTop}, {0.90, 0, 1.46}, 0.12, 96, 6);
     mb.torus({0.90, 0, 1.37}, Vec3::UnitZ(), 0.13, 0.02, 96, 16);
     for (int k = 0; k < 12; ++k) {
       Vec3 p = Vec3(0.90, 0, 0) + polar(0.145, k * 30.0, 0.0);
@@ -317,13 +317,13 @@ void build_arm(TreeBuilder& t, int arm) {
   int j1 = t.group("J1", arm);
   {
     MeshBuilder mb;  // turret on the mount and a clevis holding the J2 axle
-    mb.cylinder({0.90, 0, 1.47}, {0.90, 0, 1.55}, 0.10, 96, 10);
+    mb.cylinder({0.90, 0, 1.46}, {0.90, 0, 1.59}, 0.10, 96, 10);
     for (int s = -1; s <= 1; s += 2) {
-      mb.box({0.90, s * 0.085, 1.60}, {0.075, 0.012, 0.075}, Vec3::UnitX(), y, 8);
+      mb.box({0.90, s * 0.085, p2.z() - 0.02}, {0.075, 0.012, 0.075}, Vec3::UnitX(), y, 8);
       mb.cylinder(p2 + Vec3(0, s * 0.073, 0), p2 + Vec3(0, s * 0.105, 0), 0.06, 64, 4);
     }
-    mb.cylinder({0.78, -0.05, 1.515}, {0.78, 0.05, 1.515}, 0.025, 32, 2);  // J1 motor
-    finish(mb, kJointTriangles[0], {0.95, -0.10, 1.51}, {0.95, 0.10, 1.51}, 0.008, "ArmJ1");
+    mb.cylinder({0.78, -0.05, 1.53}, {0.78, 0.05, 1.53}, 0.025, 32, 2);  // J1 motor
+    finish(mb, kJointTriangles[0], {0.95, -0.10, 1.53}, {0.95, 0.10, 1.53}, 0.008, "ArmJ1");
     t.part("ArmJ1", j1, std::move(mb));
   }
   int j2 = t.group("J2", j1);
