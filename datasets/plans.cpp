@@ -103,7 +103,7 @@ Vec3 radial_at(const Vec3& p) {
 }
 
 // The common sampling part of a plan: stow -> above the site -> into the soil,
-// a 8 cm drag outwards at 3 cm depth -> out and up.
+// down to 3 cm over 5 cm, a 5 cm drag outwards at that depth -> out and up.
 std::vector<Waypoint> scoop_at(const std::vector<double>& dem, const Site& site, const Joints& start) {
   Vec3 s{site.x, site.y, 0};
   Vec3 r = radial_at(s);
@@ -190,7 +190,9 @@ std::vector<PlanOut> build_plans(const std::vector<double>& dem, const Checker& 
   auto standard = [&](int i, const std::string& task) {
     auto w = scoop_at(dem, sites[i], kStow);
     empty_into_can(w);
-    return make("plan" + std::string(i < 9 ? "0" : "") + std::to_string(i + 1), task, "safe", w, kPlanStates[static_cast<std::size_t>(i)]);
+    char name[16];
+    std::snprintf(name, sizeof name, "plan%02d", i + 1);
+    return make(name, task, "safe", w, kPlanStates[static_cast<std::size_t>(i)]);
   };
   plans.push_back(standard(0, "scoop at the site centre, empty into the storage can"));
   plans.push_back(standard(1, "scoop right of centre, empty into the storage can"));

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 namespace plancheck {
 namespace {
 
@@ -28,8 +30,10 @@ using nlohmann::json;
 
 constexpr double kPi = 3.14159265358979323846;
 
+// ctest runs each test in its own process, possibly in parallel: one folder per process.
 fs::path temp_dir(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("plancheck_dataset_test_" + name);
+  fs::path d = fs::temp_directory_path() /
+               ("plancheck_dataset_test_" + std::to_string(static_cast<long>(getpid())) + "_" + name);
   fs::remove_all(d);
   return d;
 }
@@ -170,7 +174,9 @@ TEST_F(Dataset, HierarchyFollowsFigure9AndTheSceneNamesExist) {
   for (const json& p : scene["probes"]) EXPECT_TRUE(v.nodes.count(p["part"].get<std::string>()));
   // Every non-root node carries an identity transform: the file is drawn at the reference pose.
   for (const auto& [name, node] : v.nodes)
-    if (node != v.scene->mRootNode) EXPECT_TRUE(node->mTransformation.IsIdentity()) << name;
+    if (node != v.scene->mRootNode) {
+      EXPECT_TRUE(node->mTransformation.IsIdentity()) << name;
+    }
 }
 
 TEST_F(Dataset, MeshesAreFiniteNonDegenerateAndStandOnTheGround) {
@@ -217,7 +223,8 @@ TEST_F(Dataset, SceneHasTheContractKeys) {
   ASSERT_EQ(s["actions"].size(), 4u);
   for (int k = 0; k < 4; ++k) {
     const json& a = s["actions"][static_cast<std::size_t>(k)];
-    EXPECT_EQ(a["name"], "J" + std::to_string(k + 1));
+    const char* names[4] = {"J1", "J2", "J3", "J4"};
+    EXPECT_EQ(a["name"], names[k]);
     EXPECT_EQ(a["type"], "rotate");
     ASSERT_EQ(a["pivot"].size(), 3u);
     ASSERT_EQ(a["axis"].size(), 3u);
@@ -426,11 +433,15 @@ TEST_F(Dataset, ExpectedSidecarHasTheDesignedViolations) {
     if (p["verdict"] == "safe") {
       EXPECT_TRUE(p["first_violation"].is_null()) << name;
       EXPECT_TRUE(p["collision_states"].empty() && p["clearance_states"].empty()) << name;
-      if (!p["min_distance"].is_null()) EXPECT_GE(p["min_distance"].get<double>(), 0.05) << name;
+      if (!p["min_distance"].is_null()) {
+        EXPECT_GE(p["min_distance"].get<double>(), 0.05) << name;
+      }
     } else {
       EXPECT_EQ(p["first_violation"]["kind"], p["verdict"]) << name;
     }
-    if (p["verdict"] == "collision") EXPECT_FALSE(p["collision_states"].empty());
+    if (p["verdict"] == "collision") {
+      EXPECT_FALSE(p["collision_states"].empty());
+    }
     if (p["verdict"] == "clearance") {
       EXPECT_TRUE(p["collision_states"].empty());
       EXPECT_GT(p["min_distance"].get<double>(), 0.0);

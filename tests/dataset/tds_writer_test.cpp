@@ -12,6 +12,8 @@
 #include <map>
 #include <string>
 
+#include <unistd.h>
+
 namespace plancheck {
 namespace {
 
@@ -51,7 +53,8 @@ void index_nodes(const aiNode* n, std::map<std::string, const aiNode*>& out) {
 }
 
 void read_back(const std::vector<TdsNode>& nodes, const std::string& file_name, ReadBack& rb) {
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "plancheck_tds_writer_test";
+  std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("plancheck_tds_writer_test_" + std::to_string(static_cast<long>(getpid())));
   std::filesystem::create_directories(dir);
   std::filesystem::path file = dir / file_name;
   tds_write(file, nodes);
