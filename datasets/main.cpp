@@ -26,6 +26,7 @@ namespace {
 constexpr double kSafetyMargin = 0.05;
 constexpr double kCheckCutoff = 0.10;  // distances above this are not needed
 constexpr double kTolerance = 0.02;
+constexpr const char* kJointNames[4] = {"J1", "J2", "J3", "J4"};
 
 const std::vector<std::pair<std::string, std::string>> kAllowed{
     {"ArmJ1", "ArmMount"}, {"ArmJ2", "ArmJ1"}, {"ArmJ3", "ArmJ2"},
@@ -61,8 +62,8 @@ ordered_json scene_json() {
   const Vec3 axes[4] = {Vec3::UnitZ(), kPitchAxis, kPitchAxis, kPitchAxis};
   ordered_json actions = ordered_json::array();
   for (int k = 0; k < 4; ++k) {
-    std::string name = "J" + std::to_string(k + 1);
     auto i = static_cast<std::size_t>(k);
+    const std::string name = kJointNames[i];
     actions.push_back({{"name", name}, {"node", name}, {"type", "rotate"}, {"pivot", vec(pivots[i])},
                        {"axis", vec(axes[i])}, {"limits", {kLimits[i].lower, kLimits[i].upper}}});
   }
@@ -214,9 +215,28 @@ int run(const fs::path& out) {
   ordered_json tri_counts;
   tri_counts["lander"] = kLanderTriangles;
   tri_counts["ascender"] = kAscenderTriangles;
-  for (int k = 0; k < 4; ++k) tri_counts["J" + std::to_string(k + 1)] = kJointTriangles[static_cast<std::size_t>(k)];
+  for (std::size_t k = 0; k < 4; ++k) tri_counts[kJointNames[k]] = kJointTriangles[k];
   tri_counts["Scoop"] = kScoopTriangles;
   expected["triangles"] = tri_counts;
+  {
+    // The reference pose (all joints 0): which parts touch (the joint contacts
+    // that allowed_collisions declares) and the closest pair otherwise.
+    Checker bare(model, dem, {}, kCheckCutoff);
+    StateCheck touching = bare.check(Joints{0, 0, 0, 0});
+    StateCheck rest = checker.check(Joints{0, 0, 0, 0});
+    ordered_json contacts = ordered_json::array();
+    for (const auto& [a, b] : touching.colliding) contacts.push_back({a, b});
+    ordered_json ref;
+    ref["contacts"] = contacts;
+    if (rest.part_a.empty()) {
+      ref["min_distance"] = nullptr;
+      ref["min_distance_parts"] = nullptr;
+    } else {
+      ref["min_distance"] = std::round(rest.min_distance * 1e6) / 1e6;
+      ref["min_distance_parts"] = {rest.part_a, rest.part_b};
+    }
+    expected["reference_pose"] = ref;
+  }
   ordered_json plans_json;
   bool all_as_designed = true;
   for (const PlanOut& p : plans) {
@@ -233,6 +253,11 @@ int run(const fs::path& out) {
   }
   expected["plans"] = plans_json;
   write_text(out / "expected.json", expected.dump(2) + "\n");
+  std::size_t triangles = 0, states = 0;
+  for (const ModelNode& n : model.nodes) triangles += n.mesh.triangles.size();
+  for (const PlanOut& p : plans) states += p.states.size();
+  std::cout << "generate_change5: wrote " << out.string() << " (" << model.nodes.size() << " nodes, " << triangles
+            << " triangles, " << plans.size() << " plans, " << states << " states)\n";
   return all_as_designed ? 0 : 3;
 }
 

@@ -448,6 +448,15 @@ TEST_F(Dataset, ExpectedSidecarHasTheDesignedViolations) {
       EXPECT_LT(p["min_distance"].get<double>(), 0.05);
     }
   }
+  // At the reference pose the parts that touch are exactly the joint contacts
+  // declared in allowed_collisions; nothing else is within the cutoff.
+  std::set<std::set<std::string>> allowed;
+  for (const json& pair : scene["allowed_collisions"]) allowed.insert({pair[0].get<std::string>(), pair[1].get<std::string>()});
+  const json& ref = e["reference_pose"];
+  EXPECT_EQ(ref["contacts"].size(), 4u);
+  for (const json& c : ref["contacts"])
+    EXPECT_TRUE(allowed.count({c[0].get<std::string>(), c[1].get<std::string>()})) << c;
+  EXPECT_TRUE(ref["min_distance"].is_null()) << ref;
   EXPECT_GE(verdicts["collision"], 1);
   EXPECT_GE(verdicts["clearance"], 1);
   EXPECT_GE(verdicts["limits"], 1);
