@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The plancheck command line (contract: shared/spec/plan-and-report-format.md).
 // Bad input of any kind ends in one "plancheck: ..." line on stderr and exit 2.
+#include "src/commands.h"
 #include "src/error.h"
 #include "src/scene_loader.h"
 #include "src/scene_summary.h"
@@ -25,6 +26,16 @@ int main(int argc, char** argv) {
   CLI::App* scene_cmd = app.add_subcommand("scene", "list parts, actions, checked pairs and reference contacts");
   scene_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON)")->required();
 
+  plancheck::VerifyArgs verify;
+  std::vector<std::string> plan_files;
+  std::string out_dir = "plancheck-out";
+  CLI::App* verify_cmd = app.add_subcommand("verify", "check every state of every plan; exit 0 all safe, 1 a violation");
+  verify_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON)")->required();
+  verify_cmd->add_option("PLAN", plan_files, "plan files (CSV)")->required();
+  verify_cmd->add_option("--out", out_dir, "folder for report.json and one CSV per plan")->capture_default_str();
+  verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  verify_cmd->add_flag("--json", verify.json, "print report.json on stdout instead of the plan lines");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -37,6 +48,11 @@ int main(int argc, char** argv) {
     if (scene_cmd->parsed()) {
       const plancheck::Scene scene = plancheck::load_scene(scene_file);
       plancheck::print_scene_summary(scene, std::cout);
+    } else if (verify_cmd->parsed()) {
+      verify.scene = scene_file;
+      verify.plans.assign(plan_files.begin(), plan_files.end());
+      verify.out = out_dir;
+      return plancheck::run_verify(verify, std::cout, std::cerr);
     }
   } catch (const plancheck::InputError& e) {
     std::cerr << "plancheck: " << e.what() << "\n";

@@ -1,7 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "src/scene_summary.h"
 
+#include "src/collision_model.h"
+#include "src/parallel.h"
+#include "src/terrain.h"
+
+#include <algorithm>
 #include <cstddef>
+#include <optional>
 #include <string>
 
 namespace plancheck {
@@ -25,6 +31,52 @@ std::string chain_text(const Scene& scene, const std::vector<int>& chain) {
 }
 
 }  // namespace
+
+std::vector<ReferenceContact> reference_contacts(const Scene& scene) {
+  // Every pair that could ever be checked (allowed ones included: they are
+  // what this list is for), posed at the reference pose, where every action
+  // is the identity.
+  std::vector<const Mesh*> meshes;
+  std::vector<std::string> names;
+  std::vector<int> chain;
+  for (const Part& p : scene.parts) {
+    meshes.push_back(&p.mesh);
+    names.push_back(p.name);
+    chain.push_back(p.chain_id);
+  }
+  Mesh terrain;
+  if (scene.terrain && scene.terrain->collide) {
+    terrain = dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin);
+    meshes.push_back(&terrain);
+    names.push_back("terrain");
+    chain.push_back(-1);
+  }
+  std::vector<std::optional<CollisionModel>> models(meshes.size());
+  parallel_for(meshes.size(), 0, 1, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) models[i].emplace(*meshes[i]);
+  });
+  auto allowed = [&](std::size_t a, std::size_t b) {
+    const bool ta = a == scene.parts.size(), tb = b == scene.parts.size();
+    const auto& t = scene.terrain_allowed_parts;
+    if (ta || tb) return std::find(t.begin(), t.end(), static_cast<int>(ta ? b : a)) != t.end();
+    for (const CheckedPair& c : scene.checked_pairs)
+      if ((c.a == static_cast<int>(a) && c.b == static_cast<int>(b)) || (c.a == static_cast<int>(b) && c.b == static_cast<int>(a)))
+        return false;
+    return true;
+  };
+  const Affine id = Affine::Identity();
+  std::vector<ReferenceContact> out;
+  for (std::size_t a = 0; a < meshes.size(); ++a)
+    for (std::size_t b = a + 1; b < meshes.size(); ++b) {
+      if (chain[a] < 0 && chain[b] < 0) continue;  // static-static: never checked
+      if (chain[a] == chain[b]) continue;          // rigidly attached
+      if (meshes[a]->triangles.empty() || meshes[b]->triangles.empty()) continue;
+      CollideResult r;
+      collide(*models[a], id, *models[b], id, CollideRequest{0}, r);
+      if (r.collide) out.push_back({names[a], names[b], allowed(a, b)});
+    }
+  return out;
+}
 
 void print_scene_summary(const Scene& scene, std::ostream& out) {
   std::size_t triangles = 0;
@@ -69,10 +121,11 @@ void print_scene_summary(const Scene& scene, std::ostream& out) {
     out << "\n";
   }
 
-  // HOOK: contacts at the reference pose need the collision models
-  // (src/collision_model.h, another area); the integrator replaces this line
-  // with a collide() over all part pairs at scene.reference_parameters.
-  out << "\ncontacts at reference pose: (not yet computed)\n";
+  const auto contacts = reference_contacts(scene);
+  out << "\ncontacts at reference pose (" << contacts.size() << "):\n";
+  for (const ReferenceContact& c : contacts)
+    out << "  " << c.a << " - " << c.b << (c.allowed ? "  (allowed)" : "  (checked: a collision at the reference pose)")
+        << "\n";
 
   for (const std::string& w : scene.warnings) out << "warning: " << w << "\n";
 }

@@ -6,8 +6,19 @@
 #include "src/scene.h"
 
 #include <ostream>
+#include <string>
+#include <vector>
 
 namespace plancheck {
+
+struct ReferenceContact {
+  std::string a, b;   // part names ("terrain" for the terrain)
+  bool allowed;       // listed in allowed_collisions (else a checked pair in collision)
+};
+
+// Pairs of parts that touch or intersect at the reference pose, among all
+// pairs that move relative to each other (allowed ones included).
+std::vector<ReferenceContact> reference_contacts(const Scene& scene);
 
 // Lengths and limits are printed in the scene's own units.
 void print_scene_summary(const Scene& scene, std::ostream& out);
