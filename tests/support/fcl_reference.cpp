@@ -49,6 +49,9 @@ FclReference::Answer FclReference::check(const std::vector<double>& params) cons
   };
   Answer answer;
   answer.distance = std::numeric_limits<double>::infinity();
+  // One result shared across the pairs, as FCL's broadphase callbacks do: the
+  // best distance so far bounds the traversal of the next pair.
+  fcl::DistanceResultd dres;
   for (std::size_t k = 0; k < impl_->pairs.size(); ++k) {
     const auto [a, b] = impl_->pairs[k];
     fcl::CollisionObjectd oa(impl_->models[static_cast<std::size_t>(a)], pose(a));
@@ -64,7 +67,6 @@ FclReference::Answer FclReference::check(const std::vector<double>& params) cons
     }
     if (answer.collision) continue;
     fcl::DistanceRequestd dreq;
-    fcl::DistanceResultd dres;
     fcl::distance(&oa, &ob, dreq, dres);
     if (dres.min_distance < answer.distance) {
       answer.distance = dres.min_distance;

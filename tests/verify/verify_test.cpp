@@ -23,11 +23,14 @@ constexpr double kPi = 3.14159265358979323846;
 
 // Slab top at z = 0 over x in [-3, 3]; bar [0, 2] x [-0.1, 0.1] x [0.9, 1.1]
 // turning about +y through (0, 0, 1). A positive angle a tilts the bar's free
-// end down; its lowest corner then sits at z = 1 - 2 sin a - 0.1 cos a, over
-// the slab's top face, so that is the distance (vertex to face).
+// end down; its lowest corner then sits at z = 1 - 2 sin a - h cos a, over
+// the slab's top face, so that is the distance (vertex to face). assimp reads
+// OBJ coordinates in single precision, so the bar's underside is float(0.9),
+// h = 1 - float(0.9); 2, 1 and 0 are exact in float.
 double bar_distance(double deg) {
   const double a = deg * kPi / 180.0;
-  return 1.0 - 2.0 * std::max(0.0, std::sin(a)) - 0.1 * std::cos(a);
+  const double h = 1.0 - static_cast<double>(0.9f);
+  return 1.0 - 2.0 * std::max(0.0, std::sin(a)) - h * std::cos(a);
 }
 
 void write_scene(const TempDir& dir) {
@@ -117,7 +120,7 @@ TEST(Verify, CsvRowsMatchTheClosedFormDistance) {
   TempDir dir("verify-csv");
   write_scene(dir);
   std::vector<double> angles;
-  for (int i = 0; i <= 100; ++i) angles.push_back(-80.0 + 1.05 * i);  // crosses first contact near 27.1 deg
+  for (int i = 0; i <= 100; ++i) angles.push_back(-80.0 + 1.08 * i);  // up to 28 deg: first contact near 27.1
   write_text(dir / "sweep.csv", plan_text("sweep", angles));
   int status = -1;
   ASSERT_FALSE(run_verify(dir, {"sweep.csv"}, 1, &status).is_null());
