@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+// The default dataset's ten plans through the real verifier, against what the
+// generator designed (datasets/change5/expected.json, computed there with its
+// own kinematics and a brute-force distance): verdicts, first violations, the
+// exact sets of colliding, too-close and out-of-limits states.
+#include "src/plan.h"
+#include "src/scene_loader.h"
+#include "src/verify.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+namespace plancheck {
+namespace {
+
+const std::filesystem::path kDir = std::filesystem::path(PLANCHECK_SOURCE_DIR) / "datasets/change5";
+
+std::set<std::size_t> states_in(const nlohmann::json& ranges) {
+  std::set<std::size_t> s;
+  for (const auto& r : ranges)
+    for (std::size_t i = r[0].get<std::size_t>(); i <= r[1].get<std::size_t>(); ++i) s.insert(i);
+  return s;
+}
+
+TEST(DatasetPlans, VerdictsAndViolatingStatesAreTheDesignedOnes) {
+  ASSERT_TRUE(std::filesystem::exists(kDir / "expected.json")) << "run `make dataset` first";
+  std::ifstream f(kDir / "expected.json");
+  const auto expected = nlohmann::json::parse(f);
+  const Scene scene = load_scene(kDir / "scene.json");
+  std::vector<Plan> plans;
+  std::vector<std::string> names;
+  for (const auto& [name, e] : expected["plans"].items()) {
+    plans.push_back(load_plan(scene, kDir / e["file"].get<std::string>()));
+    names.push_back(name);
+  }
+  ASSERT_EQ(plans.size(), 10u);
+  const Checker checker(scene);
+  const auto results = verify_plans(checker, scene, plans, VerifyOptions{});
+
+  int safe = 0;
+  std::set<std::string> kinds;
+  for (std::size_t p = 0; p < plans.size(); ++p) {
+    SCOPED_TRACE(names[p]);
+    const auto& e = expected["plans"][names[p]];
+    const PlanResult& r = results[p];
+    EXPECT_EQ(r.states.size(), e["states"].get<std::size_t>());
+    EXPECT_EQ(verdict_name(r.verdict), e["verdict"].get<std::string>());
+    kinds.insert(verdict_name(r.verdict));
+    if (r.verdict == Verdict::kSafe) ++safe;
+    if (e["first_violation"].is_null()) {
+      EXPECT_FALSE(r.first_violation.has_value());
+    } else {
+      ASSERT_TRUE(r.first_violation.has_value());
+      EXPECT_EQ(r.first_violation->state, e["first_violation"]["state"].get<std::size_t>());
+    }
+    const double margin = scene.safety_margin;
+    std::set<std::size_t> collide, close, limits;
+    for (std::size_t s = 0; s < r.states.size(); ++s) {
+      const StateResult& st = r.states[s];
+      if (st.collision) collide.insert(s);
+      else if (st.min_distance < margin) close.insert(s);
+      if (st.limit_action >= 0) limits.insert(s);
+      for (const PairContact& c : st.contacts) {
+        bool listed = false;
+        for (const auto& pair : e["colliding_parts"])
+          listed |= pair[0] == checker.part_name(c.part_a) && pair[1] == checker.part_name(c.part_b);
+        EXPECT_TRUE(listed) << "state " << s << ": " << checker.part_name(c.part_a) << " / "
+                            << checker.part_name(c.part_b);
+      }
+    }
+    EXPECT_EQ(collide, states_in(e["collision_states"]));
+    EXPECT_EQ(close, states_in(e["clearance_states"]));
+    EXPECT_EQ(limits, states_in(e["limit_states"]));
+    if (!e["min_distance"].is_null()) EXPECT_NEAR(r.min_distance, e["min_distance"].get<double>(), 1e-6);
+    ASSERT_TRUE(r.target_error.has_value());
+    EXPECT_LE(*r.target_error, plans[p].tolerance);
+  }
+  // The dataset must keep exercising every kind of verdict it was made for.
+  EXPECT_GE(safe, 5);
+  EXPECT_EQ(kinds, (std::set<std::string>{"safe", "collision", "clearance", "limits"}));
+}
+
+}  // namespace
+}  // namespace plancheck
