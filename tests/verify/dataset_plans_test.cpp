@@ -84,5 +84,47 @@ TEST(DatasetPlans, VerdictsAndViolatingStatesAreTheDesignedOnes) {
   EXPECT_EQ(kinds, (std::set<std::string>{"safe", "collision", "clearance", "limits"}));
 }
 
+int subtree_triangles(const Scene& scene, int node) {
+  const Node& n = scene.nodes[static_cast<std::size_t>(node)];
+  int t = n.part >= 0 ? static_cast<int>(scene.parts[static_cast<std::size_t>(n.part)].mesh.triangles.size()) : 0;
+  for (int c : n.children) t += subtree_triangles(scene, c);
+  return t;
+}
+
+TEST(DatasetPlans, LoaderReadsTheFigure9HierarchyWithTable2Counts) {
+  const Scene scene = load_scene(kDir / "scene.json");
+  auto node = [&](const std::string& name) {
+    for (std::size_t i = 0; i < scene.nodes.size(); ++i)
+      if (scene.nodes[i].name == name) return static_cast<int>(i);
+    ADD_FAILURE() << "no node " << name;
+    return 0;
+  };
+  auto parent = [&](const std::string& name) {
+    return scene.nodes[static_cast<std::size_t>(scene.nodes[static_cast<std::size_t>(node(name))].parent)].name;
+  };
+  // root -> {probe -> {lander, ascender}, arm -> J1 -> J2 -> J3 -> J4}
+  EXPECT_EQ(parent("lander"), "probe");
+  EXPECT_EQ(parent("ascender"), "probe");
+  EXPECT_EQ(parent("probe"), parent("arm"));
+  EXPECT_EQ(parent("J1"), "arm");
+  EXPECT_EQ(parent("J2"), "J1");
+  EXPECT_EQ(parent("J3"), "J2");
+  EXPECT_EQ(parent("J4"), "J3");
+  EXPECT_EQ(parent("Scoop"), "J4");
+  // Table 2 (each within 1%; the generator hits them exactly).
+  EXPECT_EQ(subtree_triangles(scene, node("lander")), 268730);
+  EXPECT_EQ(subtree_triangles(scene, node("ascender")), 120676);
+  EXPECT_EQ(scene.parts[static_cast<std::size_t>(scene.find_part("ArmJ1"))].mesh.triangles.size(), 5970u);
+  EXPECT_EQ(scene.parts[static_cast<std::size_t>(scene.find_part("ArmJ2"))].mesh.triangles.size(), 8723u);
+  EXPECT_EQ(scene.parts[static_cast<std::size_t>(scene.find_part("ArmJ3"))].mesh.triangles.size(), 8952u);
+  EXPECT_EQ(scene.parts[static_cast<std::size_t>(scene.find_part("ArmJ4"))].mesh.triangles.size(), 7060u);
+  EXPECT_EQ(scene.parts[static_cast<std::size_t>(scene.find_part("Scoop"))].mesh.triangles.size(), 2164u);
+  EXPECT_EQ(subtree_triangles(scene, 0), 422275);
+  // The four joints move the scoop: its chain is J1 > J2 > J3 > J4.
+  const Part& scoop = scene.parts[static_cast<std::size_t>(scene.find_part("Scoop"))];
+  ASSERT_EQ(scoop.chain.size(), 4u);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(scene.actions[static_cast<std::size_t>(scoop.chain[static_cast<std::size_t>(k)])].name, "J" + std::to_string(k + 1));
+}
+
 }  // namespace
 }  // namespace plancheck
