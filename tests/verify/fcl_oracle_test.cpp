@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <iostream>
 #include <random>
 
 namespace plancheck {
@@ -87,6 +88,7 @@ TEST(FclOracle, RandomStatesWithinLimitsAgree) {
     expect_agree(s, ("random state " + std::to_string(i)).c_str(), &collisions);
     if (::testing::Test::HasFatalFailure()) return;
   }
+  std::cout << "[ agreement ] " << kStates << " random states, " << collisions << " colliding\n";
   // The sample must exercise both answers, or it shows nothing.
   EXPECT_GT(collisions, kStates / 20);
   EXPECT_LT(collisions, kStates - kStates / 20);
@@ -123,6 +125,7 @@ TEST(FclOracle, StatesBisectedToFirstContactAgree) {
     expect_agree(lerp(a, b, hi), "colliding side of first contact", &collisions);
     if (::testing::Test::HasFatalFailure()) return;
   }
+  std::cout << "[ agreement ] " << found << " first contacts bisected: " << 2 * found << " states\n";
   EXPECT_GE(found, 50);
   EXPECT_EQ(collisions, found);
 }
