@@ -75,7 +75,9 @@ TEST(DatasetPlans, VerdictsAndViolatingStatesAreTheDesignedOnes) {
     EXPECT_EQ(collide, states_in(e["collision_states"]));
     EXPECT_EQ(close, states_in(e["clearance_states"]));
     EXPECT_EQ(limits, states_in(e["limit_states"]));
-    if (!e["min_distance"].is_null()) EXPECT_NEAR(r.min_distance, e["min_distance"].get<double>(), 1e-6);
+    if (!e["min_distance"].is_null()) {
+      EXPECT_NEAR(r.min_distance, e["min_distance"].get<double>(), 1e-6);
+    }
     ASSERT_TRUE(r.target_error.has_value());
     EXPECT_LE(*r.target_error, plans[p].tolerance);
   }
