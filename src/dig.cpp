@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace plancheck {
 
@@ -86,7 +87,8 @@ bool Digger::dig_template(Dem& grid, const Dem& start, const Vec3& m) const {
   return true;
 }
 
-double Digger::dig_swept(Dem& grid, const Affine& pose, double room, double& taken, double& spilled) const {
+double Digger::dig_swept(Dem& grid, const Affine& pose, double room, double& taken, double& spilled,
+                         std::array<int, 4>* window) const {
   taken = spilled = 0.0;
   const double h = grid.cellsize, area = h * h;
   // The posed scoop's box bounds its footprint and its lowest point.
@@ -173,11 +175,12 @@ double Digger::dig_swept(Dem& grid, const Affine& pose, double room, double& tak
       for (std::size_t i : ring) grid.z[i] += dz;
     }
   }
-  relax(grid, scene_.scoop->repose_angle, cc0 - 2, cr0 - 2, cc1 + 2, cr1 + 2);
+  relax(grid, scene_.scoop->repose_angle, cc0 - 2, cr0 - 2, cc1 + 2, cr1 + 2, &carved_mask);
+  if (window) *window = {cc0 - 2, cr0 - 2, cc1 + 2, cr1 + 2};
   return carved;
 }
 
-int Digger::relax(Dem& grid, double angle, int c0, int r0, int c1, int r1) {
+int Digger::relax(Dem& grid, double angle, int c0, int r0, int c1, int r1, const std::vector<unsigned char>* held) {
   const double h = grid.cellsize;
   const double limit_straight = std::tan(angle) * h, limit_diagonal = limit_straight * std::sqrt(2.0);
   // Each sample against its east, north, north-east and north-west neighbours
@@ -191,12 +194,12 @@ int Digger::relax(Dem& grid, double angle, int c0, int r0, int c1, int r1) {
     for (int r = r0; r <= r1; ++r)
       for (int c = c0; c <= c1; ++c) {
         const std::size_t i = at(grid, c, r);
-        if (!grid.valid[i]) continue;
+        if (!grid.valid[i] || (held && (*held)[i])) continue;
         for (int k = 0; k < 4; ++k) {
           const int nc = c + kDc[k], nr = r + kDr[k];
           if (nc < c0 - 1 || nc > c1 + 1 || nr > r1 + 1 || nc < 0 || nr >= grid.nrows || nc >= grid.ncols) continue;
           const std::size_t j = at(grid, nc, nr);
-          if (!grid.valid[j]) continue;
+          if (!grid.valid[j] || (held && (*held)[j])) continue;
           const double limit = (kDc[k] != 0 && kDr[k] != 0) ? limit_diagonal : limit_straight;
           const double diff = grid.z[i] - grid.z[j];
           const double excess = std::abs(diff) - limit;
@@ -226,6 +229,7 @@ DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem&
   const bool swept = sc.model == "swept";
   const Dem start = grid;
   double volume = 0.0, carved_total = 0.0;
+  std::optional<std::array<int, 4>> cut;  // swept: a cut whose walls the scoop still holds
   for (std::size_t s = 0; s < states.size(); ++s) {
     const Affine pose = part_transform(scene_, sc.part_index, states[s]);
     const Vec3 m = pose * sc.bottom_point;
@@ -233,12 +237,22 @@ DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem&
     if (const auto u = dem_surface(base_, origin_, m.x(), m.y())) st.depth = std::max(*u - m.z(), 0.0);
     if (swept) {
       double taken = 0.0, spilled = 0.0;
-      const double carved = dig_swept(grid, pose, sc.capacity - volume, taken, spilled);
+      std::array<int, 4> window{};
+      const double carved = dig_swept(grid, pose, sc.capacity - volume, taken, spilled, &window);
       if (carved > 0.0) {
         st.in_soil = true;
         volume += taken;
         carved_total += carved;
         sum.spilled_volume += spilled;
+        if (cut) {
+          const auto& w = *cut;
+          window = {std::min(w[0], window[0]), std::min(w[1], window[1]), std::max(w[2], window[2]), std::max(w[3], window[3])};
+        }
+        cut = window;
+      } else if (cut) {
+        // The scoop has left the cut: its walls relax now.
+        relax(grid, sc.repose_angle, (*cut)[0], (*cut)[1], (*cut)[2], (*cut)[3]);
+        cut.reset();
       }
     } else if (dig_template(grid, start, m)) {
       st.in_soil = true;
@@ -252,6 +266,7 @@ DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem&
     }
     sum.dug = sum.dug || st.in_soil;
   }
+  if (cut) relax(grid, sc.repose_angle, (*cut)[0], (*cut)[1], (*cut)[2], (*cut)[3]);
   if (swept) {
     sum.dug_volume = carved_total;
     sum.collected_volume = volume;

@@ -36,7 +36,9 @@
 // rim. Then slopes between neighbouring samples (8-neighbourhood, horizontal
 // distance h or h*sqrt(2)) steeper than the angle of repose relax: the pair
 // exchanges soil until it stands exactly at the angle, repeated until no pair
-// exceeds it by more than kReposeTolerance. Every move transfers height
+// exceeds it by more than kReposeTolerance; the carved samples, under the
+// scoop, are held while it is there, and the cut relaxes fully at the first
+// state that carves nothing (or at the end of the plan). Every move transfers height
 // between equal-area cells, so grid soil + scoop content is conserved to
 // rounding. scoop_volume is the soil in the scoop.
 #pragma once
@@ -45,6 +47,7 @@
 #include "src/scene.h"
 #include "src/terrain.h"
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -99,11 +102,17 @@ class Digger {
   // One swept step with the scoop posed by `pose`; `room` is what the scoop
   // can still take (m^3). Returns the carved volume; `taken` and `spilled`
   // split it.
-  double dig_swept(Dem& grid, const Affine& pose, double room, double& taken, double& spilled) const;
+  // `window` receives the carved cells' bounds grown by 2 (c0, r0, c1, r1)
+  // so the caller can relax the cut once the scoop has left.
+  double dig_swept(Dem& grid, const Affine& pose, double room, double& taken, double& spilled,
+                   std::array<int, 4>* window = nullptr) const;
 
   // Relaxes every slope steeper than `angle` in the window [c0, c1] x [r0, r1]
-  // (grown while soil keeps moving at its edge). Returns the sweeps made.
-  static int relax(Dem& grid, double angle, int c0, int r0, int c1, int r1);
+  // (grown while soil keeps moving at its edge). Samples marked in `held`
+  // (the scoop's lower surface rests on them) neither give nor take soil:
+  // the scoop holds the walls of its cut until it leaves. Returns the sweeps made.
+  static int relax(Dem& grid, double angle, int c0, int r0, int c1, int r1,
+                   const std::vector<unsigned char>* held = nullptr);
 
  private:
   const Scene& scene_;

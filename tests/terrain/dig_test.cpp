@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 
@@ -136,13 +137,21 @@ TEST(SweptDig, BoxScoopCarvesItsFootprintAndConservesSoil) {
   Affine pose = Affine::Identity();
   pose.translation() = Vec3(0.3, 0.3, 1.0 - depth);
   double taken = 0, spilled = 0;
-  const double carved = digger.dig_swept(g, pose, 1.0, taken, spilled);
+  std::array<int, 4> w{};
+  const double carved = digger.dig_swept(g, pose, 1.0, taken, spilled, &w);
   const double exact = 77 * depth * h * h;
   EXPECT_NEAR(carved, exact, 1e-6 * exact);  // Embree is single precision
   EXPECT_EQ(taken, carved);
   EXPECT_EQ(spilled, 0.0);
   EXPECT_NEAR(before - soil_volume(g), taken, 1e-9 * carved);
+  // While the scoop sits in the cut it holds the walls: the cut is still flat at 3 cm.
+  for (int r = 27; r <= 33; ++r)
+    for (int c = 25; c <= 35; ++c) EXPECT_NEAR(g.height(c, r), 1.0 - depth, 1e-7) << c << "," << r;
+  // Once it leaves, the walls relax to the angle of repose, soil still conserved.
+  Digger::relax(g, s.scoop->repose_angle, w[0], w[1], w[2], w[3]);
   EXPECT_LE(max_slope_excess(g, s.scoop->repose_angle), kReposeTolerance + 1e-15);
+  EXPECT_NEAR(before - soil_volume(g), taken, 1e-9 * carved);
+  EXPECT_GT(g.height(25, 30), 1.0 - depth + 1e-3);  // soil slid back into the cut
 }
 
 TEST(SweptDig, OverflowIsSpilledAsARimAndSoilIsConserved) {
@@ -155,12 +164,15 @@ TEST(SweptDig, OverflowIsSpilledAsARimAndSoilIsConserved) {
   Affine pose(Eigen::AngleAxisd(0.3, Vec3(0.2, 1, 0.1).normalized()));
   pose.translation() = Vec3(0.31, 0.29, 1.0 - depth);
   double taken = 0, spilled = 0;
-  const double carved = digger.dig_swept(g, pose, 1e-4, taken, spilled);
+  std::array<int, 4> w{};
+  const double carved = digger.dig_swept(g, pose, 1e-4, taken, spilled, &w);
   ASSERT_GT(carved, 1e-4);
   EXPECT_EQ(taken, 1e-4);
   EXPECT_NEAR(spilled, carved - 1e-4, 1e-18);
   EXPECT_NEAR(before - soil_volume(g), taken, 1e-9 * carved);
+  Digger::relax(g, s.scoop->repose_angle, w[0], w[1], w[2], w[3]);
   EXPECT_LE(max_slope_excess(g, s.scoop->repose_angle), kReposeTolerance + 1e-15);
+  EXPECT_NEAR(before - soil_volume(g), taken, 1e-9 * carved);
   // Some sample now stands above the original ground: the spilled rim.
   double top = 0;
   for (double z : g.z) top = std::max(top, z);
@@ -211,6 +223,10 @@ TEST(DefaultPlans, ScoopsReachTheSoilAndCollectWithinCapacity) {
       EXPECT_LT(sum.dug_volume, 2.0 * scene.scoop->capacity);
       EXPECT_EQ(sum.over_capacity, sum.dug_volume > scene.scoop->capacity) << sum.dug_volume;
       EXPECT_NEAR(sum.collected_mass, sum.collected_volume * scene.scoop->bulk_density, 1e-12);
+      // Soil is conserved along the whole plan: grid + scoop (swept model).
+      if (model == "swept")
+        EXPECT_NEAR(soil_volume(digger.undisturbed()) - soil_volume(g), sum.collected_volume,
+                    1e-9 * sum.dug_volume);
       // The scoop volume never shrinks along the plan (nothing is poured back in the model).
       for (std::size_t i = 1; i < steps.size(); ++i) EXPECT_GE(steps[i].volume, steps[i - 1].volume);
     }
