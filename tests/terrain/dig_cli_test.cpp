@@ -71,5 +71,24 @@ TEST(DigCommand, VerifyReportsScoopAndProbesIndependentlyOfThreads) {
   EXPECT_FALSE(report["plans"][1]["scoop"]["dug"].get<bool>());
 }
 
+TEST(DigCommand, DigCarryStartsEachPlanWhereThePreviousLeftTheGround) {
+  if (!fs::exists(kData / "scene.json")) GTEST_SKIP() << "run build/generate_change5 " << kData;
+  testing::TempDir dir("carry_cli");
+  const std::string plan = (kData / "plans/plan01.csv").string();
+  auto dug = [&](const std::string& flag, const std::string& out) {
+    EXPECT_EQ(testing::run_command(kExe.string() + " verify " + (kData / "scene.json").string() + " " + plan + " " +
+                                   plan + flag + " --out " + (dir / out).string() + " > /dev/null 2>&1"),
+              0);
+    const auto report = nlohmann::json::parse(testing::read_text(dir / out / "report.json"));
+    return std::pair{report["plans"][0]["scoop"]["dug_volume"].get<double>(),
+                     report["plans"][1]["scoop"]["dug_volume"].get<double>()};
+  };
+  const auto [a1, a2] = dug("", "fresh");
+  EXPECT_EQ(a1, a2);  // each plan starts from the undisturbed site
+  const auto [b1, b2] = dug(" --dig-carry", "carry");
+  EXPECT_EQ(b1, a1);
+  EXPECT_LT(b2, 0.5 * b1);  // the same scoop in its own pit finds little new soil
+}
+
 }  // namespace
 }  // namespace plancheck
