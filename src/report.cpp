@@ -115,7 +115,7 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
       if (st.part_a >= 0) {
         csv += num(st.min_distance / unit) + "," + checker.part_name(st.part_a) + "," + checker.part_name(st.part_b);
         for (const Vec3* p : {&st.point_a, &st.point_b})
-          for (int i = 0; i < 3; ++i) csv += "," + num((*p)[i] / unit);
+          for (int i = 0; i < 3; ++i) csv.append(",").append(num((*p)[i] / unit));  // append: no GCC 12 -Wrestrict false alarm
       } else {
         csv += ",,,,,,,,";
       }
