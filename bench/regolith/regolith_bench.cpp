@@ -19,6 +19,7 @@
 
 #include "kernels/tri_distance.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -124,7 +125,7 @@ void analytic(const Scene& site) {
 
 void site_plans(const Scene& site, const fs::path& dir) {
   std::printf("\n## plan01 on the site resampled per resolution (error against 0.5 cm)\n");
-  std::printf("| model | cell (cm) | collected (cm^3) | error vs finest | depth (cm) | ms/state |\n|---|---|---|---|---|---|\n");
+  std::printf("| model | cell (cm) | collected (cm^3) | error vs finest | depth (cm) | ms/state (all states) |\n|---|---|---|---|---|---|\n");
   const Plan plan = load_plan(site, dir / "plans/plan01.csv");
   const Dem src = load_dem(site.terrain->dem, site.length_scale);
   for (const std::string model : {"template", "swept"}) {
@@ -152,7 +153,10 @@ void site_plans(const Scene& site, const fs::path& dir) {
 void probes(const Scene& site, const fs::path& dir) {
   std::printf("\n## Probes\n");
   std::vector<Plan> plans;
-  for (const auto& e : fs::directory_iterator(dir / "plans")) plans.push_back(load_plan(site, e.path()));
+  std::vector<fs::path> files;
+  for (const auto& e : fs::directory_iterator(dir / "plans")) files.push_back(e.path());
+  std::sort(files.begin(), files.end());  // plan01 first, whatever the directory order
+  for (const auto& f : files) plans.push_back(load_plan(site, f));
   const ProbeCaster caster(site);
   std::size_t states = 0;
   for (const Plan& p : plans) states += p.states.size();
