@@ -35,6 +35,7 @@ test: dataset
 bench: dataset
 	$(BUILD)/plancheck_bench --benchmark_min_time=0.2
 	$(BUILD)/plancheck bench $(DATASET)/scene.json
+	$(BUILD)/plancheck_regolith_bench $(DATASET)
 
 clean:
 	rm -rf $(BUILD) $(DATASET)

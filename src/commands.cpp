@@ -50,7 +50,7 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
   err << "plancheck: checking " << states << " states of " << plans.size() << " plans on " << info.threads
       << " threads\n";
   t0 = std::chrono::steady_clock::now();
-  const auto results = verify_plans(checker, scene, plans, VerifyOptions{info.threads});
+  const auto results = verify_plans(checker, scene, plans, VerifyOptions{info.threads, args.dig_carry});
   info.check_seconds = seconds_since(t0);
 
   write_reports(checker, scene, results, info, args.out);

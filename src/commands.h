@@ -15,10 +15,21 @@ struct VerifyArgs {
   std::filesystem::path out = "plancheck-out";
   int threads = 0;           // 0: all hardware threads
   bool json = false;         // stdout: report.json instead of the plan lines
+  bool dig_carry = false;    // the terrain dug by one plan is the next plan's start
+};
+
+struct DigArgs {
+  std::filesystem::path scene;
+  std::filesystem::path plan;
+  std::filesystem::path out = "plancheck-dig";
 };
 
 // Exit status per the contract: 0 all plans safe, 1 any violation. Input
 // errors are thrown as InputError (main turns them into status 2).
 int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err);
+
+// Digs one plan and writes DIR/before.asc, DIR/after.asc and DIR/dig.png
+// (src/dig_command.cpp).
+int run_dig(const DigArgs& args, std::ostream& out);
 
 }  // namespace plancheck

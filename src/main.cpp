@@ -35,6 +35,15 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("--out", out_dir, "folder for report.json and one CSV per plan")->capture_default_str();
   verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   verify_cmd->add_flag("--json", verify.json, "print report.json on stdout instead of the plan lines");
+  verify_cmd->add_flag("--dig-carry", verify.dig_carry, "the terrain dug by one plan is where the next one starts");
+
+  plancheck::DigArgs dig;
+  std::string dig_plan;
+  std::string dig_out = "plancheck-dig";
+  CLI::App* dig_cmd = app.add_subcommand("dig", "dig one plan; write the terrain before/after (ESRI ASCII) and a PNG map");
+  dig_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON)")->required();
+  dig_cmd->add_option("PLAN", dig_plan, "plan file (CSV)")->required();
+  dig_cmd->add_option("--out", dig_out, "folder for before.asc, after.asc and dig.png")->capture_default_str();
 
   try {
     app.parse(argc, argv);
@@ -53,6 +62,11 @@ int main(int argc, char** argv) {
       verify.plans.assign(plan_files.begin(), plan_files.end());
       verify.out = out_dir;
       return plancheck::run_verify(verify, std::cout, std::cerr);
+    } else if (dig_cmd->parsed()) {
+      dig.scene = scene_file;
+      dig.plan = dig_plan;
+      dig.out = dig_out;
+      return plancheck::run_dig(dig, std::cout);
     }
   } catch (const plancheck::InputError& e) {
     std::cerr << "plancheck: " << e.what() << "\n";

@@ -73,7 +73,17 @@ void print_plan_lines(const Checker& checker, const Scene& scene, const std::vec
         << " " << scene.length_unit;
     if (r.min_part_a >= 0)
       out << " at state " << r.min_distance_state << " (" << pair_text(checker, r.min_part_a, r.min_part_b) << ")";
-    out << "  first violation: " << violation_text(checker, scene, r) << "\n";
+    out << "  first violation: " << violation_text(checker, scene, r);
+    if (r.dig && r.dig->dug) {
+      // Depth reached and mass collected: what an operator checks per scoop.
+      char dig[160];
+      std::snprintf(dig, sizeof dig, "  scoop: depth %.4g %s, collected %.4g kg (%.3g of capacity%s)",
+                    r.dig->deepest / scene.length_scale, scene.length_unit.c_str(), r.dig->collected_mass,
+                    scene.scoop->capacity > 0 ? r.dig->collected_volume / scene.scoop->capacity : 0.0,
+                    r.dig->over_capacity ? ", more was dug" : "");
+      out << dig;
+    }
+    out << "\n";
   }
   char tail[160];
   std::snprintf(tail, sizeof tail, "%zu plans, %zu states, %.3f s (load %.3f, build %.3f, check %.3f), %d threads\n",
@@ -91,19 +101,32 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
   for (const PlanResult& r : results) {
     const Plan& plan = *r.plan;
 
-    std::string csv = "state,collision,min_distance,part_a,part_b,ax,ay,az,bx,by,bz,limits\n";
+    std::string csv = "state,collision,min_distance,part_a,part_b,ax,ay,az,bx,by,bz,limits";
+    const bool probes = !r.probes.empty();
+    const bool dig = r.dig.has_value();
+    if (probes)
+      for (const ProbeConfig& pc : scene.probes) csv.append(",probe:").append(pc.name).append(",probe:").append(pc.name).append(":hit");
+    if (dig) csv += ",scoop_depth,scoop_volume";
+    csv += "\n";
+    const double unit3 = unit * unit * unit;
     for (std::size_t s = 0; s < r.states.size(); ++s) {
       const StateResult& st = r.states[s];
       csv += std::to_string(s) + "," + (st.collision ? "1" : "0") + ",";
       if (st.part_a >= 0) {
         csv += num(st.min_distance / unit) + "," + checker.part_name(st.part_a) + "," + checker.part_name(st.part_b);
         for (const Vec3* p : {&st.point_a, &st.point_b})
-          for (int i = 0; i < 3; ++i) csv.append(",").append(num((*p)[i] / unit));
+          for (int i = 0; i < 3; ++i) csv.append(",").append(num((*p)[i] / unit));  // append: no GCC 12 -Wrestrict false alarm
       } else {
         csv += ",,,,,,,,";
       }
       csv += ",";
       if (st.limit_action >= 0) csv += scene.actions[static_cast<std::size_t>(st.limit_action)].name;
+      if (probes)
+        for (const ProbeReading& pr : r.probes.at(s)) {
+          csv.append(",").append(num(pr.distance / unit)).append(",");
+          if (pr.hit >= 0) csv.append(r.probe_targets.at(static_cast<std::size_t>(pr.hit)));
+        }
+      if (dig) csv.append(",").append(num(r.dig_steps.at(s).depth / unit)).append(",").append(num(r.dig_steps.at(s).volume / unit3));
       csv += "\n";
     }
     write_atomically(dir / (plan.name + ".csv"), csv);
@@ -145,6 +168,34 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
         has_min ? Json::array({point_json(r.min_point_a, unit), point_json(r.min_point_b, unit)}) : Json(nullptr);
     p["collisions"] = collisions;
     p["target_error"] = r.target_error ? Json(*r.target_error / unit) : Json(nullptr);
+    if (probes) {
+      // Per probe: the shortest reading over the plan (first state on ties).
+      Json list = Json::array();
+      for (std::size_t k = 0; k < scene.probes.size(); ++k) {
+        std::size_t best = 0;
+        for (std::size_t s = 1; s < r.probes.size(); ++s)
+          if (r.probes[s][k].distance < r.probes[best][k].distance) best = s;
+        const ProbeReading& pr = r.probes[best][k];
+        list.push_back({{"name", scene.probes[k].name},
+                        {"min_distance", pr.distance / unit},
+                        {"state", best},
+                        {"hit", pr.hit >= 0 ? Json(r.probe_targets[static_cast<std::size_t>(pr.hit)]) : Json(nullptr)}});
+      }
+      p["probes"] = list;
+    }
+    if (dig) {
+      const DigSummary& d = *r.dig;
+      p["scoop"] = {{"model", d.model},
+                    {"dug", d.dug},
+                    {"dug_volume", d.dug_volume / unit3},
+                    {"collected_volume", d.collected_volume / unit3},
+                    {"collected_mass_kg", d.collected_mass},
+                    {"capacity", scene.scoop->capacity / unit3},
+                    {"over_capacity", d.over_capacity},
+                    {"spilled_volume", d.spilled_volume / unit3},
+                    {"deepest", {{"depth", d.deepest / unit}, {"state", d.deepest_state},
+                                 {"point", point_json(d.deepest_point, unit)}}}};
+    }
     p["seconds"] = r.seconds;
     plans.push_back(p);
   }

@@ -7,6 +7,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -79,6 +80,8 @@ Dem load_dem(const std::filesystem::path& file, double length_scale) {
   dem.cellsize = cellsize * length_scale;
   dem.x0 = x_center ? 0.0 : 0.5 * dem.cellsize;
   dem.y0 = y_center ? 0.0 : 0.5 * dem.cellsize;
+  dem.xll = xll * length_scale;
+  dem.yll = yll * length_scale;
   const std::size_t count = static_cast<std::size_t>(dem.ncols) * static_cast<std::size_t>(dem.nrows);
   dem.z.assign(count, 0.0);
   dem.valid.assign(count, 1);
@@ -131,6 +134,45 @@ Mesh dem_mesh(const Dem& dem, const Vec3& origin) {
       mesh.triangles.push_back({id(c, r), id(c + 1, r + 1), id(c, r + 1)});
     }
   return mesh;
+}
+
+std::optional<double> dem_surface(const Dem& dem, const Vec3& origin, double x, double y) {
+  const double u = (x - origin.x() - dem.x0) / dem.cellsize;
+  const double v = (y - origin.y() - dem.y0) / dem.cellsize;
+  if (!(u >= 0.0 && v >= 0.0 && u <= dem.ncols - 1 && v <= dem.nrows - 1)) return std::nullopt;
+  int c = std::min(static_cast<int>(u), std::max(dem.ncols - 2, 0));
+  int r = std::min(static_cast<int>(v), std::max(dem.nrows - 2, 0));
+  if (dem.ncols == 1 || dem.nrows == 1) return std::nullopt;  // no triangles in a single row or column
+  const double a = u - c, b = v - r;
+  if (!dem.is_valid(c, r) || !dem.is_valid(c + 1, r) || !dem.is_valid(c, r + 1) || !dem.is_valid(c + 1, r + 1))
+    return std::nullopt;
+  const double z00 = dem.height(c, r), z10 = dem.height(c + 1, r);
+  const double z01 = dem.height(c, r + 1), z11 = dem.height(c + 1, r + 1);
+  // dem_mesh splits each cell along (c, r)-(c+1, r+1).
+  if (a >= b) return origin.z() + z00 + a * (z10 - z00) + b * (z11 - z10);
+  return origin.z() + z00 + b * (z01 - z00) + a * (z11 - z01);
+}
+
+void write_dem(const std::filesystem::path& file, const Dem& dem, double length_scale, double nodata) {
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  if (!out) fail(file, "cannot write");
+  char buf[64];
+  auto g = [&](double v) {
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return std::string(buf);
+  };
+  out << "ncols " << dem.ncols << "\nnrows " << dem.nrows << "\n";
+  out << (dem.x0 == 0.0 ? "xllcenter " : "xllcorner ") << g(dem.xll / length_scale) << "\n";
+  out << (dem.y0 == 0.0 ? "yllcenter " : "yllcorner ") << g(dem.yll / length_scale) << "\n";
+  out << "cellsize " << g(dem.cellsize / length_scale) << "\nNODATA_value " << g(nodata) << "\n";
+  for (int r = dem.nrows - 1; r >= 0; --r) {
+    for (int c = 0; c < dem.ncols; ++c) {
+      if (c) out << ' ';
+      out << (dem.is_valid(c, r) ? g(dem.height(c, r) / length_scale) : g(nodata));
+    }
+    out << '\n';
+  }
+  if (!out.flush()) fail(file, "write failed");
 }
 
 }  // namespace plancheck

@@ -5,6 +5,7 @@
 #include "src/scene.h"
 
 #include <filesystem>
+#include <optional>
 #include <vector>
 
 namespace plancheck {
@@ -15,8 +16,10 @@ struct Dem {
   int ncols = 0;
   int nrows = 0;
   double cellsize = 0.0;         // m
-  double x0 = 0.0;               // x of column 0's centre, relative to xll (m)
-  double y0 = 0.0;               // y of row 0's centre, relative to yll (m)
+  double x0 = 0.0;               // x of column 0's centre, relative to the grid origin (m)
+  double y0 = 0.0;               // y of row 0's centre, relative to the grid origin (m)
+  double xll = 0.0;              // the file's xllcorner/xllcenter value (m), for writing back;
+  double yll = 0.0;              // the placement itself is terrain.origin (scene-format.md)
   std::vector<double> z;         // nrows * ncols, row-major from row 0; m
   std::vector<unsigned char> valid;  // 0 where the file has NODATA_value
 
@@ -34,5 +37,17 @@ Dem load_dem(const std::filesystem::path& file, double length_scale);
 // origin + (x0 + c*cellsize, y0 + r*cellsize, z). Each cell between four valid
 // samples gives two triangles; cells touching a NODATA sample are holes.
 Mesh dem_mesh(const Dem& dem, const Vec3& origin);
+
+// Height of the surface dem_mesh draws at the reference-frame point (x, y):
+// the cell's two triangles interpolated linearly (the same split as
+// dem_mesh), so "below the surface" here agrees with the collision mesh.
+// Empty outside the grid's samples or over a NODATA hole.
+std::optional<double> dem_surface(const Dem& dem, const Vec3& origin, double x, double y);
+
+// Writes an ESRI ASCII grid that load_dem reads back to the same samples
+// (17 significant digits), lengths divided by length_scale; xll/yll are
+// written as xllcorner/yllcorner or xllcenter/yllcenter as they were read, so
+// the scene's terrain.origin places the written grid where it placed the read one.
+void write_dem(const std::filesystem::path& file, const Dem& dem, double length_scale, double nodata = -9999.0);
 
 }  // namespace plancheck

@@ -264,6 +264,7 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
     }
     r.verdict = r.first_violation ? r.first_violation->kind : Verdict::kSafe;
   }
+  dig_and_probe(scene, plans, results, options);
   return results;
 }
 

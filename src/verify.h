@@ -6,6 +6,8 @@
 #pragma once
 
 #include "src/collision_model.h"
+#include "src/dig.h"
+#include "src/probes.h"
 #include "src/plan.h"
 #include "src/scene.h"
 
@@ -70,10 +72,17 @@ struct PlanResult {
   Vec3 min_point_b = Vec3::Zero();
   std::optional<double> target_error;  // m
   double seconds = 0.0;                // summed over the states' check time
+  // Scooping (scenes with a scoop block): per state, and the plan's summary.
+  std::vector<DigStep> dig_steps;
+  std::optional<DigSummary> dig;
+  // Probes (scenes with probes): probes[s][p]; a reading's hit indexes probe_targets.
+  std::vector<std::vector<ProbeReading>> probes;
+  std::vector<std::string> probe_targets;
 };
 
 struct VerifyOptions {
-  int threads = 0;  // 0: all hardware threads
+  int threads = 0;         // 0: all hardware threads
+  bool dig_carry = false;  // the terrain dug by one plan is the next plan's start
 };
 
 // Collision structures of a scene, built once; immutable and shared by threads.
@@ -115,6 +124,12 @@ class Checker {
   std::vector<std::pair<Vec3, Vec3>> local_boxes_;  // (lo, hi) per part, its own frame
   std::vector<PairRef> pairs_;
 };
+
+// The scoop and probe passes (src/regolith.cpp): digging runs sequentially
+// along each plan (plans in parallel unless options.dig_carry), so results do
+// not depend on the thread count.
+void dig_and_probe(const Scene& scene, const std::vector<Plan>& plans, std::vector<PlanResult>& results,
+                   const VerifyOptions& options);
 
 std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
                                      const std::vector<Plan>& plans, const VerifyOptions& options);
