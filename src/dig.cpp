@@ -229,7 +229,10 @@ DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem&
   const bool swept = sc.model == "swept";
   const Dem start = grid;
   double volume = 0.0, carved_total = 0.0;
-  std::optional<std::array<int, 4>> cut;  // swept: a cut whose walls the scoop still holds
+  // Swept: the cut whose walls the scoop still holds (a flag and a window
+  // rather than std::optional, which GCC 12 misreads as maybe-uninitialised).
+  bool holding = false;
+  std::array<int, 4> cut{};
   for (std::size_t s = 0; s < states.size(); ++s) {
     const Affine pose = part_transform(scene_, sc.part_index, states[s]);
     const Vec3 m = pose * sc.bottom_point;
@@ -244,15 +247,16 @@ DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem&
         volume += taken;
         carved_total += carved;
         sum.spilled_volume += spilled;
-        if (cut) {
-          const auto& w = *cut;
+        if (holding) {
+          const auto& w = cut;
           window = {std::min(w[0], window[0]), std::min(w[1], window[1]), std::max(w[2], window[2]), std::max(w[3], window[3])};
         }
         cut = window;
-      } else if (cut) {
+        holding = true;
+      } else if (holding) {
         // The scoop has left the cut: its walls relax now.
-        relax(grid, sc.repose_angle, (*cut)[0], (*cut)[1], (*cut)[2], (*cut)[3]);
-        cut.reset();
+        relax(grid, sc.repose_angle, cut[0], cut[1], cut[2], cut[3]);
+        holding = false;
       }
     } else if (dig_template(grid, start, m)) {
       st.in_soil = true;
@@ -266,7 +270,7 @@ DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem&
     }
     sum.dug = sum.dug || st.in_soil;
   }
-  if (cut) relax(grid, sc.repose_angle, (*cut)[0], (*cut)[1], (*cut)[2], (*cut)[3]);
+  if (holding) relax(grid, sc.repose_angle, cut[0], cut[1], cut[2], cut[3]);
   if (swept) {
     sum.dug_volume = carved_total;
     sum.collected_volume = volume;

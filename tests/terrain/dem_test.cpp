@@ -107,8 +107,11 @@ TEST_F(DemTest, WriterRoundTripsSamplesHolesAndRegistration) {
   EXPECT_DOUBLE_EQ(b.y0, a.y0);
   EXPECT_DOUBLE_EQ(b.cellsize, a.cellsize);
   EXPECT_EQ(b.valid, a.valid);
-  for (std::size_t i = 0; i < a.z.size(); ++i)
-    if (a.valid[i]) EXPECT_DOUBLE_EQ(b.z[i], a.z[i]);
+  for (std::size_t i = 0; i < a.z.size(); ++i) {
+    if (a.valid[i]) {
+      EXPECT_DOUBLE_EQ(b.z[i], a.z[i]);
+    }
+  }
 }
 
 TEST_F(DemTest, SurfaceFollowsTheMeshTriangles) {
