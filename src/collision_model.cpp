@@ -494,7 +494,10 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   const auto& na = s.a.data->bvh.nodes;
   const auto& nb = s.b.data->bvh.nodes;
   double best = request.upper_bound;
-  double best2 = best * best;
+  // Pruning threshold: best / (1 + rel_tolerance) (best itself when exact).
+  const double shrink_rel = 1.0 / (1.0 + std::max(0.0, request.rel_tolerance));
+  double cut = best * shrink_rel;
+  double best2 = cut * cut;
   // Prune a node pair only when its lower bound clears the best distance by
   // more than the rounding of the squared box gaps.
   constexpr double kShrink = 1.0 - 1e-12;
@@ -523,6 +526,30 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   bool found = false;
   std::uint32_t best_sa = 0, best_sb = 0;
   Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
+  if (request.seed_slot_a >= 0 && request.seed_slot_b >= 0) {
+    std::uint32_t sa = static_cast<std::uint32_t>(request.seed_slot_a);
+    std::uint32_t sb = static_cast<std::uint32_t>(request.seed_slot_b);
+    if (s.swapped) std::swap(sa, sb);
+    if (sa < s.a.data->triangles.size() && sb < s.b.data->triangles.size()) {
+      // Exactly what the traversal computes for this pair (same frame, same
+      // kernel), so the minimum found is unchanged; only the bound is earlier.
+      double p[9], q[9];
+      s.a.triangle(sa, p);
+      s.b.triangle(sb, q);
+      Vec3 pp, qq;
+      const double dist = std::sqrt(tri_distance_disjoint2(p, q, pp, qq));
+      if (dist < best) {
+        found = true;
+        best = dist;
+        cut = best * shrink_rel;
+        best2 = cut * cut;
+        best_sa = sa;
+        best_sb = sb;
+        best_pa = pp;
+        best_pb = qq;
+      }
+    }
+  }
   double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
   while (!stack.empty()) {
     const NodePair p = stack.back();
@@ -540,15 +567,32 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       // no slack beyond the patches' own curvature.
       double hi_a[kMaxLeafSize], lo_b[kMaxLeafSize];
       const double slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
+      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
+      for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
+      for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
       for (std::uint32_t i = 0; i < x.count; ++i)
         for (std::uint32_t j = 0; j < y.count; ++j) {
-          if (lo_b[j] - hi_a[i] - slack >= best) continue;
+          if (lo_b[j] - hi_a[i] - slack >= cut) continue;
+          // Triangle boxes: a second cheap lower bound (axis-aligned gaps),
+          // often tighter than the one axis for pairs side by side.
+          if (box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= best2)
+            continue;
           ++result.triangle_pairs_tested;
-          const TriDistance d = tri_distance(tri_a[i], tri_b[j]);
-          if (!(d.distance < best)) continue;
+          // The collision pass above found no intersecting pair, so these
+          // triangles are disjoint: the feature pairs alone give the exact
+          // tri_distance answer, without its overlap test.
+          Vec3 pp, qq;
+          const double d2 = tri_distance_disjoint2(tri_a[i], tri_b[j], pp, qq);
+          const double dist = std::sqrt(d2);
+          if (!(dist < best)) continue;
+          const struct {
+            double distance;
+            Vec3 point_p, point_q;
+          } d{dist, pp, qq};
           found = true;
           best = d.distance;
-          best2 = best * best;
+          cut = best * shrink_rel;
+          best2 = cut * cut;
           best_sa = x.index + i;
           best_sb = y.index + j;
           best_pa = d.point_p;
@@ -595,6 +639,8 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   result.point_b = pb;
   result.triangle_a = ia;
   result.triangle_b = ib;
+  result.slot_a = s.swapped ? best_sb : best_sa;
+  result.slot_b = s.swapped ? best_sa : best_sb;
 }
 
 }  // namespace plancheck

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The plancheck command line (contract: shared/spec/plan-and-report-format.md).
 // Bad input of any kind ends in one "plancheck: ..." line on stderr and exit 2.
+#include "src/bench_command.h"
 #include "src/commands.h"
 #include "src/error.h"
 #include "src/scene_loader.h"
@@ -36,6 +37,11 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   verify_cmd->add_flag("--json", verify.json, "print report.json on stdout instead of the plan lines");
 
+  CLI::App* bench_cmd = app.add_subcommand(
+      "bench", "reproduce the paper's Table 3 beside FCL: SCENE [PLAN...] [--json FILE] [--fcl] (runs plancheck_bench)");
+  bench_cmd->allow_extras();
+  bench_cmd->prefix_command();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -53,6 +59,8 @@ int main(int argc, char** argv) {
       verify.plans.assign(plan_files.begin(), plan_files.end());
       verify.out = out_dir;
       return plancheck::run_verify(verify, std::cout, std::cerr);
+    } else if (bench_cmd->parsed()) {
+      return plancheck::run_bench(bench_cmd->remaining(), std::cerr);
     }
   } catch (const plancheck::InputError& e) {
     std::cerr << "plancheck: " << e.what() << "\n";
