@@ -138,14 +138,13 @@ int run_table3(int argc, char** argv) {
     std::unique_ptr<FclPeer> fcl;
     Mesh terrain;
     double fcl_build = 0;
+    if (scene.terrain && scene.terrain->collide)
+      terrain = dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin);
     if (with_fcl) {
       std::cerr << "table3: building FCL models (OBBRSS)\n";
       std::vector<const Mesh*> meshes;
       for (const Part& p : scene.parts) meshes.push_back(&p.mesh);
-      if (scene.terrain && scene.terrain->collide) {
-        terrain = dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin);
-        meshes.push_back(&terrain);
-      }
+      if (scene.terrain && scene.terrain->collide) meshes.push_back(&terrain);
       fcl_build = seconds_of([&] { fcl = std::make_unique<FclPeer>(scene, meshes, checker->pairs()); });
     }
 
@@ -232,8 +231,9 @@ int run_table3(int argc, char** argv) {
         for (std::size_t p = 0; p < plans.size(); ++p) {
           got[p].assign(plans[p].states.size(), 0.0);
           StateResult r;
+          StateSeed seed;  // coherence as in verify_plans
           for (std::size_t s = 0; s < plans[p].states.size(); ++s) {
-            checker->check_state(plans[p].states[s], r, CheckRequest{true, rel});
+            checker->check_state(plans[p].states[s], r, CheckRequest{true, rel}, &seed);
             got[p][s] = r.min_distance;
           }
         }

@@ -53,6 +53,13 @@ struct DistanceRequest {
   // skipped when its lower bound times (1 + rel_tolerance) reaches the best
   // distance, so the answer is within that factor of the exact one. 0: exact.
   double rel_tolerance = 0.0;
+  // Absolute tolerance (m): node and triangle pairs whose lower bound is
+  // within this of the best so far are skipped, so the answer is at most
+  // this much above the minimum of the triangle-pair kernel values. Without
+  // it, pairs tied at the minimum (parallel faces at one distance, common in
+  // CAD models) must all run the full kernel, since rounding slack keeps
+  // their lower bounds just under the best. 0: exact.
+  double abs_tolerance = 0.0;
   // Coherence seed: model slots (CollisionModelData::triangles order) of a
   // triangle pair, usually the previous state's closest pair. Its distance at
   // this pose is computed first and bounds the search; the answer is the

@@ -300,7 +300,7 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
       break;
     }
     const auto [a, b] = pairs_[k];
-    DistanceRequest q{out.min_distance, request.rel_tolerance};
+    DistanceRequest q{out.min_distance, request.rel_tolerance, kDistanceTieTolerance};
     if (seeded) {
       q.seed_slot_a = hint.slot_a;
       q.seed_slot_b = hint.slot_b;
