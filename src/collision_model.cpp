@@ -456,16 +456,14 @@ void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstH
       // Each triangle's own unit normal as a separating axis for the pairs
       // it is in: facing patches (an arm's flat underside over a deck) are
       // told apart by a few dot products instead of the 15-feature kernel.
+      // Computed on first use: most pairs fall to the cheaper bounds first.
       double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
+      bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
       double big = 0.0;
-      for (std::uint32_t i = 0; i < x.count; ++i) {
-        triangle_normal_span(tri_a[i], norm_a[i]);
+      for (std::uint32_t i = 0; i < x.count; ++i)
         for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
-      }
-      for (std::uint32_t j = 0; j < y.count; ++j) {
-        triangle_normal_span(tri_b[j], norm_b[j]);
+      for (std::uint32_t j = 0; j < y.count; ++j)
         for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
-      }
       // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
       // a gap is a difference of two: 1e-14 big is ample.
       const double normal_slack = 1e-14 * big + 1e-300;
@@ -562,6 +560,23 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
         sizes[0] = s.obb_size(ia, true);
         sizes[1] = s.obb_size(ib, false);
       }
+      // Balls around the boxes first (centre distance minus circumradii):
+      // a tenth of the work of the box bound, and enough to prune most
+      // children far beyond the best distance.
+      const NodeObb& oa = s.a.data->obbs[ia];
+      const NodeObb& ob = s.b.data->obbs[ib];
+      double cb[3];
+      s.b.map.apply(ob.center, cb);
+      const double dx = cb[0] - oa.center[0], dy = cb[1] - oa.center[1], dz = cb[2] - oa.center[2];
+      const double ra = std::sqrt(oa.half[0] * oa.half[0] + oa.half[1] * oa.half[1] + oa.half[2] * oa.half[2]);
+      const double rb = std::sqrt(ob.half[0] * ob.half[0] + ob.half[1] * ob.half[1] + ob.half[2] * ob.half[2]);
+      const double centres = std::sqrt(dx * dx + dy * dy + dz * dz);
+      // Rounding: b's centre mapping (obb_tol) and a few ulps of every term.
+      const double tol = s.obb_tol + 1e-12 * (centres + ra + rb + std::abs(cb[0]) + std::abs(cb[1]) +
+                                              std::abs(cb[2]) + std::abs(oa.center[0]) +
+                                              std::abs(oa.center[1]) + std::abs(oa.center[2]));
+      const double ball = centres - ra - rb - tol;
+      if (ball > 0.0 && ball * ball * kShrink >= best2) return ball * ball * kShrink;
       const double lb = s.obb_lower(ia, ib);
       return lb * lb * kShrink;
     }
@@ -628,16 +643,14 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       // Each triangle's own unit normal as a separating axis for the pairs
       // it is in: facing patches (an arm's flat underside over a deck) are
       // told apart by a few dot products instead of the 15-feature kernel.
+      // Computed on first use: most pairs fall to the cheaper bounds first.
       double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
+      bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
       double big = 0.0;
-      for (std::uint32_t i = 0; i < x.count; ++i) {
-        triangle_normal_span(tri_a[i], norm_a[i]);
+      for (std::uint32_t i = 0; i < x.count; ++i)
         for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
-      }
-      for (std::uint32_t j = 0; j < y.count; ++j) {
-        triangle_normal_span(tri_b[j], norm_b[j]);
+      for (std::uint32_t j = 0; j < y.count; ++j)
         for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
-      }
       // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
       // a gap is a difference of two: 1e-14 big is ample.
       const double normal_slack = 1e-14 * big + 1e-300;
@@ -648,6 +661,14 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
           // often tighter than the one axis for pairs side by side.
           if (box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= best2)
             continue;
+          if (!have_a[i]) {
+            triangle_normal_span(tri_a[i], norm_a[i]);
+            have_a[i] = true;
+          }
+          if (!have_b[j]) {
+            triangle_normal_span(tri_b[j], norm_b[j]);
+            have_b[j] = true;
+          }
           if (normal_gap(norm_a[i], tri_b[j]) - normal_slack >= cut ||
               normal_gap(norm_b[j], tri_a[i]) - normal_slack >= cut)
             continue;
