@@ -19,15 +19,19 @@ namespace {
 
 using Tri9 = std::array<double, 9>;
 
-// Pairs with known answers: q is p's triangle lifted by `gap` along z with a
-// random in-plane shift smaller than p, both in planes z = const, so they
-// intersect (gap 0: coplanar overlap), or are exactly `gap` apart.
+// Pairs with known answers: p is a large triangle in a plane z = const, q a
+// small one above its interior: lifted by `gap` and tilted (separated, the
+// distance is exactly the gap), crossing p's plane (intersecting), or lying
+// in it (coplanar: every orientation is zero and the exact path decides).
+enum class Kind { kSeparated = 0, kCrossing = 1, kCoplanar = 2 };
+
 struct KnownPairs {
   std::vector<Tri9> p, q;
   std::vector<double> distance;
 };
 
-KnownPairs make_pairs(std::size_t n, bool separated, std::uint64_t seed) {
+KnownPairs make_pairs(std::size_t n, Kind kind, std::uint64_t seed) {
+  const bool separated = kind == Kind::kSeparated;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   KnownPairs k;
@@ -42,6 +46,11 @@ KnownPairs make_pairs(std::size_t n, bool separated, std::uint64_t seed) {
     // Tilt q about its lowest edge when separated, so the closest feature is
     // that edge at height gap (still exact: the edge keeps z = z + gap).
     if (separated) q[8] += 0.5 * (u(rng) + 1.0);
+    if (kind == Kind::kCrossing) {
+      q[2] -= 0.2;
+      q[5] -= 0.2;
+      q[8] += 0.3;
+    }
     k.p.push_back(p);
     k.q.push_back(q);
     k.distance.push_back(gap);
@@ -50,8 +59,9 @@ KnownPairs make_pairs(std::size_t n, bool separated, std::uint64_t seed) {
 }
 
 void BM_TriTriOverlap_Scalar(benchmark::State& state) {
-  const bool separated = state.range(0) != 0;
-  const KnownPairs k = make_pairs(4096, separated, 7);
+  const Kind kind = static_cast<Kind>(state.range(0));
+  const bool separated = kind == Kind::kSeparated;
+  const KnownPairs k = make_pairs(4096, kind, 7);
   for (std::size_t i = 0; i < k.p.size(); ++i) {
     const double* a = k.p[i].data();
     const double* b = k.q[i].data();
@@ -69,10 +79,11 @@ void BM_TriTriOverlap_Scalar(benchmark::State& state) {
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
 }
-BENCHMARK(BM_TriTriOverlap_Scalar)->Arg(0)->Arg(1)->ArgName("separated");
+// 0 separated, 1 crossing, 2 coplanar (the exact GMP fallback's cost).
+BENCHMARK(BM_TriTriOverlap_Scalar)->Arg(0)->Arg(1)->Arg(2)->ArgName("kind");
 
 void BM_TriDistance_Scalar(benchmark::State& state) {
-  const KnownPairs k = make_pairs(4096, true, 11);
+  const KnownPairs k = make_pairs(4096, Kind::kSeparated, 11);
   for (std::size_t i = 0; i < k.p.size(); ++i) {
     const TriDistance d = tri_distance(k.p[i].data(), k.q[i].data());
     if (!(std::abs(d.distance - k.distance[i]) <= 1e-12)) {
