@@ -37,7 +37,7 @@ struct Bvh {
 
 // Leaves of collision models hold at most this many triangles; traversal
 // keeps per-leaf scratch of this size on the stack.
-inline constexpr int kMaxLeafSize = 4;
+inline constexpr int kMaxLeafSize = 16;
 
 struct BvhBuildOptions {
   int bins = 16;                      // SAH bins per axis

@@ -37,7 +37,7 @@ void check_invariants(const Mesh& mesh, const CollisionModelData& d) {
     const BvhNode& node = bvh.nodes[i];
     for (int k = 0; k < 3; ++k) ASSERT_LE(node.lo[k], node.hi[k]);
     if (node.is_leaf()) {
-      ASSERT_LE(node.count, 4u);
+      ASSERT_LE(node.count, static_cast<std::uint32_t>(kMaxLeafSize));
       for (std::uint32_t s = node.index; s < node.index + node.count; ++s) {
         ASSERT_LT(s, n);
         ++slot_seen[s];
