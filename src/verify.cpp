@@ -105,6 +105,10 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene) {
   for (const Mesh* m : meshes) {
     const Box b = mesh_box(*m);
     local_boxes_.emplace_back(b.lo, b.hi);
+    // Static parts never move: their world box (the very value a state
+    // would compute with the identity) is computed here once.
+    const Box w = posed_box(b, Affine::Identity());
+    static_boxes_.emplace_back(w.lo, w.hi);
   }
 }
 
@@ -237,7 +241,8 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
   // checked one state (collision-only checks take ~2 us, where a handful of
   // heap allocations would show).
   struct Scratch {
-    std::vector<Affine> chains, pose;
+    std::vector<Affine> chains;
+    std::vector<const Affine*> pose;
     std::vector<Box> box;
     std::vector<double> lower;
     std::vector<std::size_t> order;
@@ -246,13 +251,19 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
   std::vector<Affine>& chains = scratch.chains;
   chain_transforms(scene_, params, chains);
   const std::size_t n = models_.size();
-  std::vector<Affine>& pose = scratch.pose;
-  pose.assign(n, Affine::Identity());
+  static const Affine kIdentity = Affine::Identity();
+  std::vector<const Affine*>& pose = scratch.pose;
+  pose.resize(n);
   std::vector<Box>& box = scratch.box;
   box.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (chain_of_[i] >= 0) pose[i] = chains[static_cast<std::size_t>(chain_of_[i])];
-    box[i] = posed_box({local_boxes_[i].first, local_boxes_[i].second}, pose[i]);
+    if (chain_of_[i] >= 0) {
+      pose[i] = &chains[static_cast<std::size_t>(chain_of_[i])];
+      box[i] = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *pose[i]);
+    } else {
+      pose[i] = &kIdentity;
+      box[i] = {static_boxes_[i].first, static_boxes_[i].second};
+    }
   }
 
   // Collision: every checked pair whose part boxes meet.
@@ -268,7 +279,7 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
     lower[k] = box_distance(box[a], box[b]);
     if (lower[k] > 0.0) continue;
     CollideResult r;
-    collide(models_[a], pose[a], models_[b], pose[b], CollideRequest{kMaxTrianglePairsListed}, r);
+    collide(models_[a], *pose[a], models_[b], *pose[b], CollideRequest{kMaxTrianglePairsListed}, r);
     if (!r.collide) continue;
     // Back to mesh triangle indices where triangles were left out.
     const auto& ka = kept_[static_cast<std::size_t>(a)];
@@ -320,7 +331,7 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
       q.seed_slot_b = hint.slot_b;
     }
     DistanceResult r;
-    distance(models_[a], pose[a], models_[b], pose[b], q, r);
+    distance(models_[a], *pose[a], models_[b], *pose[b], q, r);
     if (r.found && r.distance < out.min_distance) {
       if (seed) *seed = StateSeed{static_cast<int>(k), r.slot_a, r.slot_b};
       out.min_distance = r.distance;

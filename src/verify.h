@@ -149,6 +149,7 @@ class Checker {
   std::vector<CollisionModel> models_;  // one per checked part (parts, then terrain)
   std::vector<int> chain_of_;           // chain id per checked part, -1 when static
   std::vector<std::pair<Vec3, Vec3>> local_boxes_;  // (lo, hi) per part, its own frame
+  std::vector<std::pair<Vec3, Vec3>> static_boxes_;  // posed (identity) boxes of static parts, once
   std::vector<PairRef> pairs_;
   // Per checked part: model triangle index -> mesh triangle index, when
   // triangles were left out (empty: the identity).
