@@ -62,7 +62,11 @@ inline double box_distance_squared(const double* alo, const double* ahi, const d
                                    const double* bhi) noexcept {
   double d2 = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const double gap = std::fmax(0.0, std::fmax(alo[k] - bhi[k], blo[k] - ahi[k]));
+    // Plain comparisons, not std::fmax: boxes are never NaN here, and fmax
+    // is an out-of-line libm call in the hottest loop of distance queries.
+    const double g1 = alo[k] - bhi[k], g2 = blo[k] - ahi[k];
+    const double g = g1 > g2 ? g1 : g2;
+    const double gap = g > 0.0 ? g : 0.0;
     d2 += gap * gap;
   }
   return d2;

@@ -13,6 +13,7 @@
 #include "kernels/tri_tri_overlap.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>  // cross(); without it a lone includer links to an undefined template
 
 #include <algorithm>
 #include <cmath>
@@ -152,6 +153,22 @@ inline void piercing_pairs(const V s[3], const V t[3], bool s_is_p, Best& best) 
 }
 
 }  // namespace tri_distance_detail
+
+// For triangles already known to be disjoint (e.g. after an exact
+// collision query over their sets found no intersecting pair): the same
+// feature-pair minimum tri_distance returns for them, without the exact
+// overlap test. Returns the squared distance; p_out, q_out get the points.
+inline double tri_distance_disjoint2(const double* p, const double* q, Eigen::Vector3d& p_out,
+                                     Eigen::Vector3d& q_out) noexcept {
+  using namespace tri_distance_detail;
+  const V pv[3] = {V(p[0], p[1], p[2]), V(p[3], p[4], p[5]), V(p[6], p[7], p[8])};
+  const V qv[3] = {V(q[0], q[1], q[2]), V(q[3], q[4], q[5]), V(q[6], q[7], q[8])};
+  Best best;
+  feature_pairs(pv, qv, best);
+  p_out = best.p;
+  q_out = best.q;
+  return best.d2;
+}
 
 // Triangles given as 9 doubles each (x0 y0 z0 x1 ... z2).
 inline TriDistance tri_distance(const double* p, const double* q) noexcept {

@@ -55,6 +55,34 @@ struct Simplex {
 
 inline Simplex classify(P a, P b, P c) noexcept {
   Simplex s;
+  // Fast path: the largest normal component certified non-zero by the
+  // orient2d filter proves a proper triangle and is the axis the exact path
+  // below would drop, so the answer is the same. Without it an axis-aligned
+  // triangle (two components exactly zero, common in CAD models) costs two
+  // exact evaluations per call.
+  {
+    using namespace predicate_detail;
+    const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    const double l[3] = {uy * vz, uz * vx, ux * vy};
+    const double r[3] = {uz * vy, ux * vz, uy * vx};
+    int k = 0;
+    double best = -1.0;
+    for (int i = 0; i < 3; ++i)
+      if (std::abs(l[i] - r[i]) > best) {
+        best = std::abs(l[i] - r[i]);
+        k = i;
+      }
+    const double mag = std::abs(l[k]) + std::abs(r[k]);
+    if (mag > kUnderflowGuard && best > kOrient2dBound * mag) {
+      s.dim = 2;
+      s.v[0] = a;
+      s.v[1] = b;
+      s.v[2] = c;
+      s.drop = k;
+      return s;
+    }
+  }
   int sg[3];
   if (!collinear(a, b, c, sg)) {
     s.dim = 2;

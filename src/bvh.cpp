@@ -186,12 +186,22 @@ CollisionModelData build_collision_data(const Mesh& mesh) {
     }
   }
   data.bvh = build_bvh(boxes);
-  data.triangles.resize(nt);
+  data.corners.resize(nt);
+  constexpr std::uint32_t kUnused = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> renumber(nv, kUnused);
   for (std::size_t s = 0; s < nt; ++s) {
     const Tri& tri = mesh.triangles[data.bvh.prim_ids[s]];
-    for (int v = 0; v < 3; ++v)
-      for (int k = 0; k < 3; ++k) data.triangles[s][3 * v + k] = mesh.vertices[tri[v]][k];
+    for (int v = 0; v < 3; ++v) {
+      std::uint32_t& r = renumber[tri[v]];
+      if (r == kUnused) {
+        r = static_cast<std::uint32_t>(data.vertices.size());
+        const Vec3& x = mesh.vertices[tri[v]];
+        data.vertices.push_back({x[0], x[1], x[2]});
+      }
+      data.corners[s][v] = r;
+    }
   }
+  data.vertices.shrink_to_fit();
   compute_node_obbs(data);
   return data;
 }
@@ -221,7 +231,7 @@ void compute_node_obbs(CollisionModelData& data) {
       mi.end = node.index + node.count;
       for (std::uint32_t s = mi.begin; s < mi.end; ++s)
         for (int v = 0; v < 3; ++v) {
-          const double* xv = &data.triangles[s][3 * v];
+          const double* xv = data.vertex(s, v);
           const double x[3] = {xv[0] - origin[0], xv[1] - origin[1], xv[2] - origin[2]};
           mi.count += 1;
           for (int k = 0; k < 3; ++k) mi.sum[k] += x[k];
@@ -275,7 +285,7 @@ void compute_node_obbs(CollisionModelData& data) {
     }
     for (std::uint32_t s = mi.begin; s < mi.end; ++s)
       for (int v = 0; v < 3; ++v) {
-        const double* x = &data.triangles[s][3 * v];
+        const double* x = data.vertex(s, v);
         for (int k = 0; k < 3; ++k) {
           const double p = axes[k][0] * x[0] + axes[k][1] * x[1] + axes[k][2] * x[2];
           lo[k] = std::min(lo[k], p);

@@ -40,12 +40,13 @@ CollisionModel::~CollisionModel() = default;
 CollisionModel::CollisionModel(CollisionModel&&) noexcept = default;
 CollisionModel& CollisionModel::operator=(CollisionModel&&) noexcept = default;
 
-std::size_t CollisionModel::triangle_count() const { return data_->triangles.size(); }
+std::size_t CollisionModel::triangle_count() const { return data_->triangle_count(); }
 
 std::size_t CollisionModel::memory_bytes() const {
   return sizeof(CollisionModelData) + data_->bvh.nodes.capacity() * sizeof(BvhNode) +
          data_->bvh.prim_ids.capacity() * sizeof(std::uint32_t) +
-         data_->triangles.capacity() * sizeof(data_->triangles[0]) +
+         data_->vertices.capacity() * sizeof(data_->vertices[0]) +
+         data_->corners.capacity() * sizeof(data_->corners[0]) +
          data_->obbs.capacity() * sizeof(NodeObb);
 }
 
@@ -103,11 +104,12 @@ struct Side {
 
   // Working-frame coordinates of the triangle in slot s.
   void triangle(std::uint32_t s, double* out) const {
-    const double* src = data->triangles[s].data();
-    if (identity) {
-      std::copy(src, src + 9, out);
-    } else {
-      for (int v = 0; v < 3; ++v) map.apply(src + 3 * v, out + 3 * v);
+    for (int v = 0; v < 3; ++v) {
+      const double* src = data->vertex(s, v);
+      if (identity)
+        std::copy(src, src + 3, out + 3 * v);
+      else
+        map.apply(src, out + 3 * v);
     }
   }
 };
@@ -360,6 +362,42 @@ void triangle_box(const double* t, double* box) {
   }
 }
 
+// n[0..2]: the triangle's unit normal (zero for a zero-area triangle, so
+// its gap is never positive); n[3], n[4]: the span of its own vertices on it.
+void triangle_normal_span(const double* t, double* n) {
+  const double ux = t[3] - t[0], uy = t[4] - t[1], uz = t[5] - t[2];
+  const double vx = t[6] - t[0], vy = t[7] - t[1], vz = t[8] - t[2];
+  double c[3] = {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
+  const double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  if (!(len > 0.0) || !std::isfinite(len)) {
+    std::fill(n, n + 5, 0.0);
+    return;
+  }
+  // Any unit axis gives a valid bound; the rounding of this one only makes
+  // it slightly less than the true normal, never wrong.
+  for (int k = 0; k < 3; ++k) n[k] = c[k] / len;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int v = 0; v < 3; ++v) {
+    const double d = n[0] * t[3 * v] + n[1] * t[3 * v + 1] + n[2] * t[3 * v + 2];
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  n[3] = lo;
+  n[4] = hi;
+}
+
+// Gap between the spans of the normal's triangle and triangle t on the
+// normal (a separating-axis lower bound of their distance before slack).
+double normal_gap(const double* n, const double* t) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int v = 0; v < 3; ++v) {
+    const double d = n[0] * t[3 * v] + n[1] * t[3 * v + 1] + n[2] * t[3 * v + 2];
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  return std::max(lo - n[4], n[3] - hi);
+}
+
 struct NodePair {
   std::uint32_t a, b;
   double lower2;  // squared distance lower bound (distance queries)
@@ -415,6 +453,20 @@ void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstH
       double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
       for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
       for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
+      // Each triangle's own unit normal as a separating axis for the pairs
+      // it is in: facing patches (an arm's flat underside over a deck) are
+      // told apart by a few dot products instead of the 15-feature kernel.
+      // Computed on first use: most pairs fall to the cheaper bounds first.
+      double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
+      bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
+      double big = 0.0;
+      for (std::uint32_t i = 0; i < x.count; ++i)
+        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
+      for (std::uint32_t j = 0; j < y.count; ++j)
+        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
+      // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
+      // a gap is a difference of two: 1e-14 big is ample.
+      const double normal_slack = 1e-14 * big + 1e-300;
       for (std::uint32_t i = 0; i < x.count; ++i)
         for (std::uint32_t j = 0; j < y.count; ++j) {
           if (!boxes_overlap(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3)) continue;
@@ -494,7 +546,11 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   const auto& na = s.a.data->bvh.nodes;
   const auto& nb = s.b.data->bvh.nodes;
   double best = request.upper_bound;
-  double best2 = best * best;
+  // Pruning threshold: best / (1 + rel_tolerance) (best itself when exact).
+  const double shrink_rel = 1.0 / (1.0 + std::max(0.0, request.rel_tolerance));
+  const double tie = std::max(0.0, request.abs_tolerance);
+  double cut = std::max(0.0, best * shrink_rel - tie);
+  double best2 = cut * cut;
   // Prune a node pair only when its lower bound clears the best distance by
   // more than the rounding of the squared box gaps.
   constexpr double kShrink = 1.0 - 1e-12;
@@ -504,6 +560,23 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
         sizes[0] = s.obb_size(ia, true);
         sizes[1] = s.obb_size(ib, false);
       }
+      // Balls around the boxes first (centre distance minus circumradii):
+      // a tenth of the work of the box bound, and enough to prune most
+      // children far beyond the best distance.
+      const NodeObb& oa = s.a.data->obbs[ia];
+      const NodeObb& ob = s.b.data->obbs[ib];
+      double cb[3];
+      s.b.map.apply(ob.center, cb);
+      const double dx = cb[0] - oa.center[0], dy = cb[1] - oa.center[1], dz = cb[2] - oa.center[2];
+      const double ra = std::sqrt(oa.half[0] * oa.half[0] + oa.half[1] * oa.half[1] + oa.half[2] * oa.half[2]);
+      const double rb = std::sqrt(ob.half[0] * ob.half[0] + ob.half[1] * ob.half[1] + ob.half[2] * ob.half[2]);
+      const double centres = std::sqrt(dx * dx + dy * dy + dz * dz);
+      // Rounding: b's centre mapping (obb_tol) and a few ulps of every term.
+      const double tol = s.obb_tol + 1e-12 * (centres + ra + rb + std::abs(cb[0]) + std::abs(cb[1]) +
+                                              std::abs(cb[2]) + std::abs(oa.center[0]) +
+                                              std::abs(oa.center[1]) + std::abs(oa.center[2]));
+      const double ball = centres - ra - rb - tol;
+      if (ball > 0.0 && ball * ball * kShrink >= best2) return ball * ball * kShrink;
       const double lb = s.obb_lower(ia, ib);
       return lb * lb * kShrink;
     }
@@ -523,6 +596,30 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   bool found = false;
   std::uint32_t best_sa = 0, best_sb = 0;
   Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
+  if (request.seed_slot_a >= 0 && request.seed_slot_b >= 0) {
+    std::uint32_t sa = static_cast<std::uint32_t>(request.seed_slot_a);
+    std::uint32_t sb = static_cast<std::uint32_t>(request.seed_slot_b);
+    if (s.swapped) std::swap(sa, sb);
+    if (sa < s.a.data->triangle_count() && sb < s.b.data->triangle_count()) {
+      // Exactly what the traversal computes for this pair (same frame, same
+      // kernel), so the minimum found is unchanged; only the bound is earlier.
+      double p[9], q[9];
+      s.a.triangle(sa, p);
+      s.b.triangle(sb, q);
+      Vec3 pp, qq;
+      const double dist = std::sqrt(tri_distance_disjoint2(p, q, pp, qq));
+      if (dist < best) {
+        found = true;
+        best = dist;
+        cut = std::max(0.0, best * shrink_rel - tie);
+        best2 = cut * cut;
+        best_sa = sa;
+        best_sb = sb;
+        best_pa = pp;
+        best_pb = qq;
+      }
+    }
+  }
   double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
   while (!stack.empty()) {
     const NodePair p = stack.back();
@@ -540,15 +637,57 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       // no slack beyond the patches' own curvature.
       double hi_a[kMaxLeafSize], lo_b[kMaxLeafSize];
       const double slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
+      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
+      for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
+      for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
+      // Each triangle's own unit normal as a separating axis for the pairs
+      // it is in: facing patches (an arm's flat underside over a deck) are
+      // told apart by a few dot products instead of the 15-feature kernel.
+      // Computed on first use: most pairs fall to the cheaper bounds first.
+      double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
+      bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
+      double big = 0.0;
+      for (std::uint32_t i = 0; i < x.count; ++i)
+        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
+      for (std::uint32_t j = 0; j < y.count; ++j)
+        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
+      // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
+      // a gap is a difference of two: 1e-14 big is ample.
+      const double normal_slack = 1e-14 * big + 1e-300;
       for (std::uint32_t i = 0; i < x.count; ++i)
         for (std::uint32_t j = 0; j < y.count; ++j) {
-          if (lo_b[j] - hi_a[i] - slack >= best) continue;
+          if (lo_b[j] - hi_a[i] - slack >= cut) continue;
+          // Triangle boxes: a second cheap lower bound (axis-aligned gaps),
+          // often tighter than the one axis for pairs side by side.
+          if (box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= best2)
+            continue;
+          if (!have_a[i]) {
+            triangle_normal_span(tri_a[i], norm_a[i]);
+            have_a[i] = true;
+          }
+          if (!have_b[j]) {
+            triangle_normal_span(tri_b[j], norm_b[j]);
+            have_b[j] = true;
+          }
+          if (normal_gap(norm_a[i], tri_b[j]) - normal_slack >= cut ||
+              normal_gap(norm_b[j], tri_a[i]) - normal_slack >= cut)
+            continue;
           ++result.triangle_pairs_tested;
-          const TriDistance d = tri_distance(tri_a[i], tri_b[j]);
-          if (!(d.distance < best)) continue;
+          // The collision pass above found no intersecting pair, so these
+          // triangles are disjoint: the feature pairs alone give the exact
+          // tri_distance answer, without its overlap test.
+          Vec3 pp, qq;
+          const double d2 = tri_distance_disjoint2(tri_a[i], tri_b[j], pp, qq);
+          const double dist = std::sqrt(d2);
+          if (!(dist < best)) continue;
+          const struct {
+            double distance;
+            Vec3 point_p, point_q;
+          } d{dist, pp, qq};
           found = true;
           best = d.distance;
-          best2 = best * best;
+          cut = std::max(0.0, best * shrink_rel - tie);
+          best2 = cut * cut;
           best_sa = x.index + i;
           best_sb = y.index + j;
           best_pa = d.point_p;
@@ -595,6 +734,8 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   result.point_b = pb;
   result.triangle_a = ia;
   result.triangle_b = ib;
+  result.slot_a = s.swapped ? best_sb : best_sa;
+  result.slot_b = s.swapped ? best_sa : best_sb;
 }
 
 }  // namespace plancheck

@@ -49,6 +49,23 @@ struct DistanceRequest {
   // Only distances strictly below this are searched for (m); the best distance
   // found so far across a state's pairs goes here so it prunes the rest.
   double upper_bound = std::numeric_limits<double>::infinity();
+  // Relative tolerance (like FCL's rel_err): a node or triangle pair is
+  // skipped when its lower bound times (1 + rel_tolerance) reaches the best
+  // distance, so the answer is within that factor of the exact one. 0: exact.
+  double rel_tolerance = 0.0;
+  // Absolute tolerance (m): node and triangle pairs whose lower bound is
+  // within this of the best so far are skipped, so the answer is at most
+  // this much above the minimum of the triangle-pair kernel values. Without
+  // it, pairs tied at the minimum (parallel faces at one distance, common in
+  // CAD models) must all run the full kernel, since rounding slack keeps
+  // their lower bounds just under the best. 0: exact.
+  double abs_tolerance = 0.0;
+  // Coherence seed: model slots (CollisionModelData::triangles order) of a
+  // triangle pair, usually the previous state's closest pair. Its distance at
+  // this pose is computed first and bounds the search; the answer is the
+  // same as without it. -1: no seed.
+  std::int64_t seed_slot_a = -1;
+  std::int64_t seed_slot_b = -1;
 };
 
 struct DistanceResult {
@@ -58,6 +75,8 @@ struct DistanceResult {
   Vec3 point_b = Vec3::Zero();          // closest point on b, world frame (m)
   std::uint32_t triangle_a = 0;          // triangle index in a's mesh (valid when found)
   std::uint32_t triangle_b = 0;          // triangle index in b's mesh (valid when found)
+  std::uint32_t slot_a = 0;              // the same triangles as model slots (a seed for the next state)
+  std::uint32_t slot_b = 0;
   std::uint64_t node_pairs_visited = 0;   // statistics: BVH node pairs expanded or tested
   std::uint64_t triangle_pairs_tested = 0;  // statistics: triangle distance kernels run
 };

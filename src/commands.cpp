@@ -44,6 +44,7 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
   err << "plancheck: building collision structures\n";
   const Checker checker(scene, info.threads);
   info.build_seconds = seconds_since(t0);
+  info.left_out_static_triangles = checker.left_out_static_triangles();
 
   std::size_t states = 0;
   for (const Plan& p : plans) states += p.states.size();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The plancheck command line (contract: shared/spec/plan-and-report-format.md).
 // Bad input of any kind ends in one "plancheck: ..." line on stderr and exit 2.
+#include "src/bench_command.h"
 #include "src/commands.h"
 #include "src/error.h"
 #include "src/scene_loader.h"
@@ -45,6 +46,11 @@ int main(int argc, char** argv) {
   dig_cmd->add_option("PLAN", dig_plan, "plan file (CSV)")->required();
   dig_cmd->add_option("--out", dig_out, "folder for before.asc, after.asc and dig.png")->capture_default_str();
 
+  CLI::App* bench_cmd = app.add_subcommand(
+      "bench", "reproduce the paper's Table 3 beside FCL: SCENE [PLAN...] [--json FILE] [--fcl] (runs plancheck_bench)");
+  bench_cmd->allow_extras();
+  bench_cmd->prefix_command();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -67,6 +73,8 @@ int main(int argc, char** argv) {
       dig.plan = dig_plan;
       dig.out = dig_out;
       return plancheck::run_dig(dig, std::cout);
+    } else if (bench_cmd->parsed()) {
+      return plancheck::run_bench(bench_cmd->remaining(), std::cerr);
     }
   } catch (const plancheck::InputError& e) {
     std::cerr << "plancheck: " << e.what() << "\n";

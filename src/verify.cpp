@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <numeric>
 
 namespace plancheck {
@@ -73,17 +74,6 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene) {
     chain_of_.push_back(-1);
   }
 
-  // Build the per-part structures in parallel: parts are independent.
-  std::vector<std::optional<CollisionModel>> built(meshes.size());
-  parallel_for(meshes.size(), threads, 1, [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t i = begin; i < end; ++i) built[i].emplace(*meshes[i]);
-  });
-  for (auto& m : built) models_.push_back(std::move(*m));
-  for (const Mesh* m : meshes) {
-    const Box b = mesh_box(*m);
-    local_boxes_.emplace_back(b.lo, b.hi);
-  }
-
   // The moving part first in each pair, as reports name them (arm part, then what it meets).
   for (const CheckedPair& p : scene.checked_pairs) {
     if (chain_of_[static_cast<std::size_t>(p.a)] < 0 && chain_of_[static_cast<std::size_t>(p.b)] >= 0)
@@ -100,6 +90,136 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene) {
       pairs_.push_back({static_cast<int>(i), t});
     }
   }
+
+  // Leave out static triangles no moving part can reach (kept_ maps back).
+  std::vector<Mesh> pruned;
+  kept_.resize(meshes.size());
+  left_out_ = prune_static(scene, meshes, pruned);
+
+  // Build the per-part structures in parallel: parts are independent.
+  std::vector<std::optional<CollisionModel>> built(meshes.size());
+  parallel_for(meshes.size(), threads, 1, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) built[i].emplace(*meshes[i]);
+  });
+  for (auto& m : built) models_.push_back(std::move(*m));
+  for (const Mesh* m : meshes) {
+    const Box b = mesh_box(*m);
+    local_boxes_.emplace_back(b.lo, b.hi);
+    // Static parts never move: their world box (the very value a state
+    // would compute with the identity) is computed here once.
+    const Box w = posed_box(b, Affine::Identity());
+    static_boxes_.emplace_back(w.lo, w.hi);
+  }
+}
+
+namespace {
+
+// Reach of a part on a chain of rotations (any axes, limits ignored, so the
+// bound holds for every state): a rotation about an axis through pivot p
+// keeps |y - p|, hence a point x posed by A1(A2(...Ak(x))) stays within
+// |x - p_k| + sum_i |p_{i+1} - p_i| of p_1 (triangle inequality, innermost
+// action first). Chains with other actions have no such bound here.
+struct Reach {
+  bool bounded = false;
+  Vec3 centre = Vec3::Zero();  // p_1
+  double r_max = 0.0;          // max over the part's triangle vertices (m)
+  double r_min = 0.0;          // min over them (m)
+};
+
+Reach part_reach(const Scene& scene, const std::vector<int>& chain, const Mesh& mesh) {
+  Reach r;
+  if (chain.empty()) return r;
+  double hops = 0.0;
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const Action& a = scene.actions[static_cast<std::size_t>(chain[i])];
+    if (a.type != ActionType::kRotate) return r;
+    if (i > 0) hops += (a.pivot - scene.actions[static_cast<std::size_t>(chain[i - 1])].pivot).norm();
+  }
+  r.centre = scene.actions[static_cast<std::size_t>(chain.front())].pivot;
+  const Vec3 last = scene.actions[static_cast<std::size_t>(chain.back())].pivot;
+  r.r_max = 0.0;
+  r.r_min = std::numeric_limits<double>::infinity();
+  for (const Tri& t : mesh.triangles)
+    for (std::uint32_t v : t) {
+      const double d = (mesh.vertices[v] - last).norm() + hops;
+      r.r_max = std::max(r.r_max, d);
+      r.r_min = std::min(r.r_min, d);
+    }
+  r.bounded = !mesh.triangles.empty();
+  return r;
+}
+
+}  // namespace
+
+// Soundness: let U bound the state's minimum distance from above in every
+// pose: for any checked (moving m, static s) pair and vertices x of m, y of
+// s, |posed x - y| <= R(x) + |p_1 - y|. A static triangle T with
+// dist(T, p_1(m)) - r_max(m) > U for each moving partner m is then farther
+// from every partner than U in every pose: it never touches one, and never
+// holds the minimum, which is at most U. So verdicts, distances and contacts
+// are unchanged. Distances are taken with a relative slack for rounding.
+std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& meshes,
+                                  std::vector<Mesh>& storage) {
+  const std::size_t n = meshes.size();
+  storage.resize(n);  // before any pointer into it is taken
+  std::vector<std::vector<int>> partners(n);
+  for (const PairRef& p : pairs_) {
+    if (chain_of_[static_cast<std::size_t>(p.b)] < 0) partners[static_cast<std::size_t>(p.b)].push_back(p.a);
+    if (chain_of_[static_cast<std::size_t>(p.a)] < 0) partners[static_cast<std::size_t>(p.a)].push_back(p.b);
+  }
+  std::vector<Reach> reach(n);
+  double upper = std::numeric_limits<double>::infinity();
+  for (std::size_t s = 0; s < n; ++s) {
+    if (chain_of_[s] >= 0) continue;
+    for (int m : partners[s]) {
+      auto& rm = reach[static_cast<std::size_t>(m)];
+      if (!rm.bounded) {
+        const std::size_t mi = static_cast<std::size_t>(m);
+        rm = part_reach(scene, scene.parts[mi].chain, *meshes[mi]);
+        if (!rm.bounded) return 0;  // a partner without a reach bound: keep everything
+      }
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const Tri& t : meshes[s]->triangles)
+        for (std::uint32_t v : t) nearest = std::min(nearest, (meshes[s]->vertices[v] - rm.centre).norm());
+      upper = std::min(upper, rm.r_min + nearest);
+    }
+  }
+  // Without any static pair the minimum has no bound here; static parts in
+  // no pair are still left out below (nothing ever queries them).
+  const double limit = upper * (1.0 + 1e-9) + 1e-9;
+  std::size_t dropped = 0;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (chain_of_[s] >= 0) continue;
+    const Mesh& mesh = *meshes[s];
+    std::vector<std::uint32_t> keep;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const Tri& tri = mesh.triangles[t];
+      // Ball around the triangle: centroid c, radius rho; every point of T is
+      // within rho of c, so dist(T, p) >= |c - p| - rho.
+      const Vec3 c = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0;
+      double rho = 0.0;
+      for (std::uint32_t v : tri) rho = std::max(rho, (mesh.vertices[v] - c).norm());
+      bool needed = false;
+      for (int m : partners[s]) {
+        const Reach& rm = reach[static_cast<std::size_t>(m)];
+        const double gap = (c - rm.centre).norm() - rho - rm.r_max;
+        if (!(gap * (1.0 - 1e-9) > limit)) {
+          needed = true;
+          break;
+        }
+      }
+      if (needed) keep.push_back(static_cast<std::uint32_t>(t));
+    }
+    if (keep.size() == mesh.triangles.size()) continue;
+    dropped += mesh.triangles.size() - keep.size();
+    Mesh& out = storage[s];
+    out.vertices = mesh.vertices;
+    out.triangles.reserve(keep.size());
+    for (std::uint32_t t : keep) out.triangles.push_back(mesh.triangles[t]);
+    kept_[s] = std::move(keep);
+    meshes[s] = &out;
+  }
+  return dropped;
 }
 
 std::size_t Checker::triangle_count() const {
@@ -114,33 +234,70 @@ std::size_t Checker::memory_bytes() const {
   return n;
 }
 
-void Checker::check_state(const std::vector<double>& params, StateResult& out) const {
+void Checker::check_state(const std::vector<double>& params, StateResult& out,
+                          const CheckRequest& request, StateSeed* seed) const {
   out = StateResult{};
-  std::vector<Affine> chains;
+  // Per-thread scratch: a state allocates nothing once its thread has
+  // checked one state (collision-only checks take ~2 us, where a handful of
+  // heap allocations would show).
+  struct Scratch {
+    std::vector<Affine> chains;
+    std::vector<const Affine*> pose;
+    std::vector<Box> box;
+    std::vector<double> lower;
+    std::vector<std::size_t> order;
+  };
+  static thread_local Scratch scratch;
+  std::vector<Affine>& chains = scratch.chains;
   chain_transforms(scene_, params, chains);
   const std::size_t n = models_.size();
-  std::vector<Affine> pose(n, Affine::Identity());
-  std::vector<Box> box(n);
+  static const Affine kIdentity = Affine::Identity();
+  std::vector<const Affine*>& pose = scratch.pose;
+  pose.resize(n);
+  std::vector<Box>& box = scratch.box;
+  box.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    if (chain_of_[i] >= 0) pose[i] = chains[static_cast<std::size_t>(chain_of_[i])];
-    box[i] = posed_box({local_boxes_[i].first, local_boxes_[i].second}, pose[i]);
+    if (chain_of_[i] >= 0) {
+      pose[i] = &chains[static_cast<std::size_t>(chain_of_[i])];
+      box[i] = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *pose[i]);
+    } else {
+      pose[i] = &kIdentity;
+      box[i] = {static_boxes_[i].first, static_boxes_[i].second};
+    }
   }
 
   // Collision: every checked pair whose part boxes meet.
-  std::vector<double> lower(pairs_.size());
+  std::vector<double>& lower = scratch.lower;
+  lower.assign(pairs_.size(), 0.0);
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     const auto [a, b] = pairs_[k];
+    // A part whose triangles were all left out has an empty (inverted) box.
+    if (models_[a].triangle_count() == 0 || models_[b].triangle_count() == 0) {
+      lower[k] = std::numeric_limits<double>::infinity();
+      continue;
+    }
     lower[k] = box_distance(box[a], box[b]);
     if (lower[k] > 0.0) continue;
     CollideResult r;
-    collide(models_[a], pose[a], models_[b], pose[b], CollideRequest{kMaxTrianglePairsListed}, r);
-    if (r.collide) out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
+    collide(models_[a], *pose[a], models_[b], *pose[b], CollideRequest{kMaxTrianglePairsListed}, r);
+    if (!r.collide) continue;
+    // Back to mesh triangle indices where triangles were left out.
+    const auto& ka = kept_[static_cast<std::size_t>(a)];
+    const auto& kb = kept_[static_cast<std::size_t>(b)];
+    for (auto& [i, j] : r.triangle_pairs) {
+      if (!ka.empty()) i = ka[i];
+      if (!kb.empty()) j = kb[j];
+    }
+    out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
   }
   out.collision = !out.contacts.empty();
+  out.limit_action = first_limit_violation(scene_, params);
+  if (!request.distance) return;
 
   // Minimum distance: pairs in order of their box lower bound, the best so
   // far pruning the rest; a colliding state needs only a common point.
-  std::vector<std::size_t> order;
+  std::vector<std::size_t>& order = scratch.order;
+  order.clear();
   if (out.collision) {
     for (std::size_t k = 0; k < pairs_.size(); ++k)
       if (pairs_[k].a == out.contacts[0].part_a && pairs_[k].b == out.contacts[0].part_b) order.push_back(k);
@@ -148,13 +305,35 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out) c
     order.resize(pairs_.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return lower[x] < lower[y]; });
+    // The seed's pair first: its bound then prunes every other pair.
+    if (seed && seed->pair >= 0 && static_cast<std::size_t>(seed->pair) < pairs_.size() &&
+        std::isfinite(lower[static_cast<std::size_t>(seed->pair)])) {
+      const auto it = std::find(order.begin(), order.end(), static_cast<std::size_t>(seed->pair));
+      std::rotate(order.begin(), it, it + 1);
+    }
   }
+  const StateSeed hint = seed ? *seed : StateSeed{};
+  if (seed) *seed = StateSeed{};
+  bool first = true;
+  const double shrink = 1.0 / (1.0 + request.rel_tolerance);
   for (std::size_t k : order) {
-    if (lower[k] >= out.min_distance) break;
+    // The seeded pair may come first out of order: never stop on it.
+    const bool seeded = first && hint.pair == static_cast<int>(k) && !out.collision;
+    first = false;
+    if (lower[k] >= out.min_distance * shrink) {
+      if (seeded) continue;
+      break;
+    }
     const auto [a, b] = pairs_[k];
+    DistanceRequest q{out.min_distance, request.rel_tolerance, kDistanceTieTolerance};
+    if (seeded) {
+      q.seed_slot_a = hint.slot_a;
+      q.seed_slot_b = hint.slot_b;
+    }
     DistanceResult r;
-    distance(models_[a], pose[a], models_[b], pose[b], DistanceRequest{out.min_distance}, r);
+    distance(models_[a], *pose[a], models_[b], *pose[b], q, r);
     if (r.found && r.distance < out.min_distance) {
+      if (seed) *seed = StateSeed{static_cast<int>(k), r.slot_a, r.slot_b};
       out.min_distance = r.distance;
       out.part_a = a;
       out.part_b = b;
@@ -163,7 +342,6 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out) c
     }
   }
   if (out.collision) out.min_distance = 0.0;
-  out.limit_action = first_limit_violation(scene_, params);
 }
 
 std::vector<PairContact> Checker::reference_contacts() const {
@@ -208,11 +386,19 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
   }
 
   // States are independent: shard them; each writes only its own slot.
-  parallel_for(items.size(), options.threads, 4, [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t i = begin; i < end; ++i) {
+  // Within a run of kRun items a plan's states go in order, each seeding the
+  // next (coherence). Runs are fixed blocks of the item list, so which state
+  // seeds which, and hence which of several equally close pairs is
+  // reported, does not depend on the thread count.
+  constexpr std::size_t kRun = 16;
+  const std::size_t runs = (items.size() + kRun - 1) / kRun;
+  parallel_for(runs, options.threads, 1, [&](std::size_t run_begin, std::size_t run_end, int) {
+    StateSeed seed;
+    for (std::size_t i = run_begin * kRun; i < std::min(items.size(), run_end * kRun); ++i) {
       const auto [p, s] = items[i];
+      if (i % kRun == 0 || items[i - 1].first != p) seed = StateSeed{};
       const auto t0 = std::chrono::steady_clock::now();
-      checker.check_state(plans[p].states[s], results[p].states[s]);
+      checker.check_state(plans[p].states[s], results[p].states[s], CheckRequest{}, &seed);
       state_seconds[p][s] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
   });

@@ -24,6 +24,13 @@ namespace plancheck {
 // comparison closer than this (metres) is treated as a violation.
 inline constexpr double kDistanceTolerance = 1e-9;
 
+// Distance searches skip pairs whose lower bound is within this (m) of the
+// best so far (DistanceRequest::abs_tolerance), so a reported minimum is at
+// most this much above the exact minimum over triangle pairs: a thousand
+// times below kDistanceTolerance, so no margin decision can change, and it
+// halves the check time on models with parallel faces tied at the minimum.
+inline constexpr double kDistanceTieTolerance = 1e-12;
+
 // Most colliding states listed per plan, and triangle pairs per part pair
 // (the contract's report limits).
 inline constexpr std::size_t kMaxCollisionStatesListed = 100;
@@ -80,6 +87,23 @@ struct PlanResult {
   std::vector<std::string> probe_targets;
 };
 
+// What one state's check computes (the bench also times the parts alone).
+struct CheckRequest {
+  bool distance = true;        // false: collision only; min_distance stays infinity
+  // Relative distance tolerance (like FCL's rel_err): the minimum distance
+  // reported is at most (1 + rel_tolerance) times the exact one. 0: exact.
+  // Only the bench uses it; verify always checks exactly.
+  double rel_tolerance = 0.0;
+};
+
+// Coherence between consecutive states of a plan: the previous state's
+// closest pair (checked pair and triangle slots) seeds the next state's
+// distance search with a tight upper bound. Results never depend on it.
+struct StateSeed {
+  int pair = -1;  // index into the checked pairs; -1: none
+  std::uint32_t slot_a = 0, slot_b = 0;
+};
+
 struct VerifyOptions {
   int threads = 0;         // 0: all hardware threads
   bool dig_carry = false;  // the terrain dug by one plan is the next plan's start
@@ -95,6 +119,11 @@ class Checker {
   std::size_t part_count() const { return names_.size(); }
   std::size_t triangle_count() const;
   std::size_t memory_bytes() const;
+  // Static triangles left out at build time: beyond the reach of every
+  // moving part they are checked against (see the constructor), or in static
+  // parts no checked pair uses. Such a triangle can neither touch a moving
+  // part nor be closer to one than some kept pair is in every pose.
+  std::size_t left_out_static_triangles() const { return left_out_; }
 
   // The checked pairs as indices into the part list (the moving part first).
   std::vector<std::pair<int, int>> pairs() const {
@@ -104,7 +133,10 @@ class Checker {
   }
 
   // Checks one configuration (a full parameter vector, SI).
-  void check_state(const std::vector<double>& params, StateResult& out) const;
+  // seed (optional, in/out): read as the hint, then set to this state's
+  // closest pair for the next state.
+  void check_state(const std::vector<double>& params, StateResult& out,
+                   const CheckRequest& request = {}, StateSeed* seed = nullptr) const;
 
   // The pairs in contact (touching or intersecting) at the reference pose.
   std::vector<PairContact> reference_contacts() const;
@@ -117,12 +149,21 @@ class Checker {
   struct PairRef {
     int a, b;
   };
+  // Replaces meshes[i] of static parts by their reachable triangles (held in
+  // storage), fills kept_; returns how many triangles were left out.
+  std::size_t prune_static(const Scene& scene, std::vector<const Mesh*>& meshes,
+                           std::vector<Mesh>& storage);
   const Scene& scene_;
   std::vector<std::string> names_;
   std::vector<CollisionModel> models_;  // one per checked part (parts, then terrain)
   std::vector<int> chain_of_;           // chain id per checked part, -1 when static
   std::vector<std::pair<Vec3, Vec3>> local_boxes_;  // (lo, hi) per part, its own frame
+  std::vector<std::pair<Vec3, Vec3>> static_boxes_;  // posed (identity) boxes of static parts, once
   std::vector<PairRef> pairs_;
+  // Per checked part: model triangle index -> mesh triangle index, when
+  // triangles were left out (empty: the identity).
+  std::vector<std::vector<std::uint32_t>> kept_;
+  std::size_t left_out_ = 0;
 };
 
 // The scoop and probe passes (src/regolith.cpp): digging runs sequentially

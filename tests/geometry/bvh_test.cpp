@@ -25,7 +25,7 @@ void check_invariants(const Mesh& mesh, const CollisionModelData& d) {
   const Bvh& bvh = d.bvh;
   const std::size_t n = mesh.triangles.size();
   ASSERT_EQ(bvh.prim_ids.size(), n);
-  ASSERT_EQ(d.triangles.size(), n);
+  ASSERT_EQ(d.triangle_count(), n);
   std::vector<int> slot_seen(n, 0), prim_seen(n, 0);
   std::vector<std::uint32_t> stack{0};
   std::size_t visited = 0;
@@ -37,7 +37,7 @@ void check_invariants(const Mesh& mesh, const CollisionModelData& d) {
     const BvhNode& node = bvh.nodes[i];
     for (int k = 0; k < 3; ++k) ASSERT_LE(node.lo[k], node.hi[k]);
     if (node.is_leaf()) {
-      ASSERT_LE(node.count, 4u);
+      ASSERT_LE(node.count, static_cast<std::uint32_t>(kMaxLeafSize));
       for (std::uint32_t s = node.index; s < node.index + node.count; ++s) {
         ASSERT_LT(s, n);
         ++slot_seen[s];
@@ -46,7 +46,7 @@ void check_invariants(const Mesh& mesh, const CollisionModelData& d) {
         for (int v = 0; v < 3; ++v)
           for (int k = 0; k < 3; ++k) {
             const double x = mesh.vertices[t[v]][k];
-            ASSERT_EQ(d.triangles[s][3 * v + k], x);
+            ASSERT_EQ(d.vertex(s, v)[k], x);
             ASSERT_LE(static_cast<double>(node.lo[k]), x);
             ASSERT_GE(static_cast<double>(node.hi[k]), x);
           }
@@ -95,7 +95,7 @@ void check_obbs(const CollisionModelData& d) {
     const Vec3 c(o.center[0], o.center[1], o.center[2]);
     for (std::uint32_t s = range[i].first; s < range[i].second; ++s)
       for (int v = 0; v < 3; ++v) {
-        const Vec3 x(d.triangles[s][3 * v], d.triangles[s][3 * v + 1], d.triangles[s][3 * v + 2]);
+        const Vec3 x(d.vertex(s, v)[0], d.vertex(s, v)[1], d.vertex(s, v)[2]);
         const Vec3 local = axes * (x - c);
         for (int k = 0; k < 3; ++k) ASSERT_LE(std::abs(local[k]), o.half[k]) << "node " << i;
       }

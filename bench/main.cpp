@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: MIT
+// plancheck_bench: `plancheck_bench table3 SCENE [PLAN...] [--json FILE] [--fcl]`
+// reproduces the paper's Table 3; anything else runs the Google Benchmark
+// micro benchmarks (BM_<Component>_<Operation>, each checking its answer first).
+#include "bench/table3.h"
+
+#include <benchmark/benchmark.h>
+
+#include <cstring>
+
+int main(int argc, char** argv) {
+  if (argc >= 2 && std::strcmp(argv[1], "table3") == 0) return plancheck::bench::run_table3(argc - 1, argv + 1);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

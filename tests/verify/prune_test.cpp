@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: MIT
+// Static triangles beyond every moving part's reach are left out at build
+// time: the count is reported, results do not change, and contact triangle
+// indices still name the scene mesh's triangles.
+#include "src/scene_loader.h"
+#include "src/verify.h"
+#include "support/fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace plancheck {
+namespace {
+
+using testing::TempDir;
+
+constexpr double kPi = 3.14159265358979323846;
+
+Mesh concat(const Mesh& a, const Mesh& b) {
+  Mesh m = a;
+  const auto base = static_cast<std::uint32_t>(a.vertices.size());
+  m.vertices.insert(m.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (Tri t : b.triangles) m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  return m;
+}
+
+// verify_test's bar over a slab, with a far block (x in [40, 41], z in
+// [5, 6]) stored first in the slab's own mesh, so the slab's triangles have
+// mesh indices 12..23 and dropping the block shifts the model's indices.
+struct Scene3 {
+  TempDir dir{"prune"};
+  Scene scene;
+  Scene3() {
+    const Mesh far = testing::box_mesh({40, -1, 5}, {41, 1, 6});
+    const Mesh slab = testing::box_mesh({-3, -1, -1}, {3, 1, 0});
+    testing::write_obj(dir / "model.obj", {{"Slab", concat(far, slab)},
+                                           {"Bar", testing::box_mesh({0, -0.1, 0.9}, {2, 0.1, 1.1})}});
+    testing::write_text(dir / "scene.json", R"({
+  "format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m", "angle_unit": "deg",
+  "actions": [{"name": "J1", "node": "Bar", "type": "rotate", "pivot": [0, 0, 1], "axis": [0, 1, 0], "limits": [-90, 30]}],
+  "safety_margin": 0.05
+})");
+    scene = load_scene(dir / "scene.json");
+  }
+};
+
+TEST(Prune, FarStaticTrianglesAreLeftOutAndCounted) {
+  Scene3 s;
+  const Checker checker(s.scene);
+  EXPECT_EQ(checker.left_out_static_triangles(), 12u);
+  EXPECT_EQ(checker.triangle_count(), 24u + 12u - 12u);
+}
+
+TEST(Prune, DistancesAndContactIndicesUnchanged) {
+  Scene3 s;
+  const Checker checker(s.scene);
+  const int slab = s.scene.find_part("Slab");
+  ASSERT_GE(slab, 0);
+  const Mesh& mesh = s.scene.parts[static_cast<std::size_t>(slab)].mesh;
+  // Safe: the closed form of verify_test (bar's underside is float(0.9)).
+  for (double deg : {0.0, 10.0, 20.0}) {
+    StateResult r;
+    checker.check_state({deg * kPi / 180.0}, r);
+    const double a = deg * kPi / 180.0;
+    const double h = 1.0 - static_cast<double>(0.9f);
+    EXPECT_FALSE(r.collision);
+    EXPECT_NEAR(r.min_distance, 1.0 - 2.0 * std::sin(a) - h * std::cos(a), 1e-12) << deg;
+  }
+  // Colliding: the bar's tip goes through the slab's top; every listed slab
+  // triangle is a top-face triangle of the slab (z = 0), not of the block.
+  StateResult r;
+  checker.check_state({35.0 * kPi / 180.0}, r);
+  ASSERT_TRUE(r.collision);
+  ASSERT_FALSE(r.contacts.empty());
+  for (const PairContact& c : r.contacts) {
+    const bool slab_is_b = c.part_b == slab;
+    ASSERT_TRUE(slab_is_b || c.part_a == slab);
+    for (const auto& [ta, tb] : c.triangles) {
+      const std::uint32_t t = slab_is_b ? tb : ta;
+      ASSERT_LT(t, mesh.triangles.size());
+      EXPECT_GE(t, 12u);
+      double zmax = -1e9;
+      for (std::uint32_t v : mesh.triangles[t]) zmax = std::max(zmax, mesh.vertices[v].z());
+      EXPECT_EQ(zmax, 0.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace plancheck
