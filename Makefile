@@ -37,7 +37,7 @@ test: dataset
 # should run on the machine meanwhile: the numbers are wall-clock medians.
 bench: dataset
 	$(BUILD)/plancheck_bench --benchmark_min_time=0.2
-	$(BUILD)/plancheck bench $(DATASET)/scene.json --fcl --fcl-repetitions 3 --json $(BUILD)/table3.json
+	$(BUILD)/plancheck bench $(DATASET)/scene.json --fcl --fcl-repetitions 5 --repetitions 9 --json $(BUILD)/table3.json
 	$(BUILD)/plancheck_regolith_bench $(DATASET)
 
 clean:

@@ -197,16 +197,17 @@ int run_table3(int argc, char** argv) {
     std::cerr << "table3: timing plancheck (" << reps << " repetitions, median)\n";
     for (std::size_t p = 0; p < plans.size(); ++p) {
       const std::vector<Plan> one{plans[p]};
-      rows[p].pc_1 = median_seconds(reps, [&] { verify_plans(*checker, scene, one, VerifyOptions{1}); });
-      rows[p].pc_2 = median_seconds(reps, [&] { verify_plans(*checker, scene, one, VerifyOptions{2}); });
+      // Collision and distance only (regolith off): the same work FCL does.
+      rows[p].pc_1 = median_seconds(reps, [&] { verify_plans(*checker, scene, one, VerifyOptions{1, false, false}); });
+      rows[p].pc_2 = median_seconds(reps, [&] { verify_plans(*checker, scene, one, VerifyOptions{2, false, false}); });
       rows[p].pc_collide_1 = median_seconds(reps, [&] {
         StateResult r;
         for (const auto& st : plans[p].states) checker->check_state(st, r, CheckRequest{false, 0.0});
       });
     }
     // The whole workload in one call, as `plancheck verify` runs it.
-    const double all_1 = median_seconds(reps, [&] { verify_plans(*checker, scene, plans, VerifyOptions{1}); });
-    const double all_2 = median_seconds(reps, [&] { verify_plans(*checker, scene, plans, VerifyOptions{2}); });
+    const double all_1 = median_seconds(reps, [&] { verify_plans(*checker, scene, plans, VerifyOptions{1, false, false}); });
+    const double all_2 = median_seconds(reps, [&] { verify_plans(*checker, scene, plans, VerifyOptions{2, false, false}); });
 
     if (fcl) {
       std::cerr << "table3: timing FCL (" << fcl_reps << " repetitions, median)\n";

@@ -9,10 +9,10 @@
 
 namespace plancheck {
 
-void dig_and_probe(const Scene& scene, const std::vector<Plan>& plans, std::vector<PlanResult>& results,
+void dig_and_probe(const Checker& checker, const std::vector<Plan>& plans, std::vector<PlanResult>& results,
                    const VerifyOptions& options) {
-  if (scene.scoop && scene.terrain) {
-    const Digger digger(scene);
+  if (const Digger* built = checker.digger()) {
+    const Digger& digger = *built;
     if (options.dig_carry) {
       Dem grid = digger.undisturbed();
       for (std::size_t p = 0; p < plans.size(); ++p)
@@ -27,8 +27,8 @@ void dig_and_probe(const Scene& scene, const std::vector<Plan>& plans, std::vect
       });
     }
   }
-  if (!scene.probes.empty()) {
-    const ProbeCaster caster(scene);
+  if (const ProbeCaster* built = checker.probe_caster()) {
+    const ProbeCaster& caster = *built;
     for (std::size_t p = 0; p < plans.size(); ++p) {
       caster.cast(plans[p].states, options.threads, results[p].probes);
       results[p].probe_targets = caster.target_names();

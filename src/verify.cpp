@@ -110,6 +110,8 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene) {
     const Box w = posed_box(b, Affine::Identity());
     static_boxes_.emplace_back(w.lo, w.hi);
   }
+  if (scene.scoop && scene.terrain) digger_ = std::make_unique<const Digger>(scene);
+  if (!scene.probes.empty()) probes_ = std::make_unique<const ProbeCaster>(scene);
 }
 
 namespace {
@@ -450,7 +452,7 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
     }
     r.verdict = r.first_violation ? r.first_violation->kind : Verdict::kSafe;
   }
-  dig_and_probe(scene, plans, results, options);
+  if (options.regolith) dig_and_probe(checker, plans, results, options);
   return results;
 }
 

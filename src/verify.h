@@ -12,6 +12,7 @@
 #include "src/scene.h"
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -107,6 +108,7 @@ struct StateSeed {
 struct VerifyOptions {
   int threads = 0;         // 0: all hardware threads
   bool dig_carry = false;  // the terrain dug by one plan is the next plan's start
+  bool regolith = true;    // run the digging and probe passes when the scene has them
 };
 
 // Collision structures of a scene, built once; immutable and shared by threads.
@@ -164,12 +166,19 @@ class Checker {
   // triangles were left out (empty: the identity).
   std::vector<std::vector<std::uint32_t>> kept_;
   std::size_t left_out_ = 0;
+  // Built once with the collision structures, only when the scene needs them.
+  std::unique_ptr<const Digger> digger_;        // scoop and terrain
+  std::unique_ptr<const ProbeCaster> probes_;   // probes (an Embree scene)
+
+ public:
+  const Digger* digger() const { return digger_.get(); }
+  const ProbeCaster* probe_caster() const { return probes_.get(); }
 };
 
 // The scoop and probe passes (src/regolith.cpp): digging runs sequentially
 // along each plan (plans in parallel unless options.dig_carry), so results do
 // not depend on the thread count.
-void dig_and_probe(const Scene& scene, const std::vector<Plan>& plans, std::vector<PlanResult>& results,
+void dig_and_probe(const Checker& checker, const std::vector<Plan>& plans, std::vector<PlanResult>& results,
                    const VerifyOptions& options);
 
 std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
