@@ -265,7 +265,35 @@ class Builder {
     } else {
       for (unsigned i = 0; i < root->mNumChildren; ++i) walk(root->mChildren[i], root_global, root_index);
     }
+    keep_unattached(root_global, root_index);
     make_parts();
+  }
+
+  // A mesh no node carries (a 3ds object the keyframer leaves out, which
+  // assimp then hangs nowhere) is still geometry: dropping it could let a plan
+  // pass as safe. Each becomes a static part under the root, named after its
+  // 3ds object when there is one, with a warning.
+  void keep_unattached(const Mat4& root_global, int root_index) {
+    std::size_t kept = 0;
+    std::map<std::string, int> by_name;
+    for (unsigned m = 0; m < ai_.mNumMeshes; ++m) {
+      if (used_meshes_.count(m)) continue;
+      const aiMesh* mesh = ai_.mMeshes[m];
+      const int object = tds_object_of(*mesh);
+      std::string name = object >= 0 ? tds_objects_[object].name : std::string(mesh->mName.C_Str());
+      if (name.empty()) name = "unattached_mesh_" + std::to_string(m);
+      auto [it, added] = by_name.try_emplace(name, 0);
+      if (added) it->second = add_node(name, root_index, root_global);
+      PendingMesh pm{mesh, root_global, nullptr, {}};
+      if (object >= 0 && match_drawn_faces(*mesh, tds_objects_[object], pm.object_faces))
+        pm.object = &tds_objects_[object];
+      pending_[it->second].meshes.push_back(std::move(pm));
+      used_meshes_.insert(m);
+      ++kept;
+    }
+    if (kept > 0)
+      scene_.warnings.push_back(located(file_, std::to_string(kept) +
+                                                   " meshes attached to no node kept as static parts under the root"));
   }
 
  private:
@@ -465,9 +493,6 @@ class Builder {
     if (ignored_faces > 0)
       scene_.warnings.push_back(located(file_, std::to_string(ignored_faces) +
                                                    " non-triangle primitives (points, lines) ignored"));
-    std::size_t orphans = ai_.mNumMeshes - used_meshes_.size();
-    if (orphans > 0)
-      scene_.warnings.push_back(located(file_, std::to_string(orphans) + " meshes not attached to any node ignored"));
   }
 
   const aiScene& ai_;

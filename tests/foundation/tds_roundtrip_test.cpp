@@ -125,5 +125,34 @@ TEST(TdsRoundTrip, HierarchySplitObjectsAndEveryVertexSurviveTheLoader) {
   for (const char* group : {"probe", "arm", "J1", "J2", "Body"}) EXPECT_LT(scene.find_part(group), 0) << group;
 }
 
+TEST(TdsRoundTrip, AnObjectTheKeyframerLeavesOutIsKeptAsAStaticPart) {
+  // Two objects; the keyframer's entry for "Bobj" is renamed "Xobj" (same
+  // length, so every chunk size stays right): assimp then hangs Bobj's mesh on
+  // no node. Dropping it would hide geometry from the collision check.
+  std::vector<TdsNode> nodes(2);
+  nodes[0] = {"Aobj", -1, box(0.0f, 0.0f, 0.0f, 1.0f)};
+  nodes[1] = {"Bobj", -1, box(3.0f, 0.0f, 0.0f, 0.5f)};
+  std::vector<std::uint8_t> bytes = tds_serialize(nodes);
+  const std::string needle = "Bobj";
+  std::vector<std::size_t> at;
+  for (std::size_t i = 0; i + needle.size() < bytes.size(); ++i)
+    if (std::equal(needle.begin(), needle.end(), bytes.begin() + static_cast<long>(i)) && bytes[i + needle.size()] == 0)
+      at.push_back(i);
+  ASSERT_GE(at.size(), 2u);  // the editor object, then the keyframer node
+  bytes[at.back()] = 'X';
+  testing::TempDir dir("tds-orphan");
+  testing::write_text(dir / "model.3ds", std::string(bytes.begin(), bytes.end()));
+
+  Scene scene;
+  load_model(dir / "model.3ds", 1.0, scene);
+  const int b = scene.find_part("Bobj");
+  ASSERT_GE(b, 0) << "the object the keyframer leaves out must not be dropped";
+  EXPECT_EQ(triangles_of(scene.parts[static_cast<std::size_t>(b)].mesh), triangles_of(nodes[1].mesh));
+  EXPECT_EQ(scene.parts[static_cast<std::size_t>(b)].chain.size(), 0u);
+  bool warned = false;
+  for (const std::string& w : scene.warnings) warned |= w.find("kept as static parts") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
 }  // namespace
 }  // namespace plancheck
