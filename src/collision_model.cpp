@@ -453,20 +453,6 @@ void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstH
       double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
       for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
       for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
-      // Each triangle's own unit normal as a separating axis for the pairs
-      // it is in: facing patches (an arm's flat underside over a deck) are
-      // told apart by a few dot products instead of the 15-feature kernel.
-      // Computed on first use: most pairs fall to the cheaper bounds first.
-      double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
-      bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
-      double big = 0.0;
-      for (std::uint32_t i = 0; i < x.count; ++i)
-        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
-      for (std::uint32_t j = 0; j < y.count; ++j)
-        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
-      // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
-      // a gap is a difference of two: 1e-14 big is ample.
-      const double normal_slack = 1e-14 * big + 1e-300;
       for (std::uint32_t i = 0; i < x.count; ++i)
         for (std::uint32_t j = 0; j < y.count; ++j) {
           if (!boxes_overlap(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3)) continue;
