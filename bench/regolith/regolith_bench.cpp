@@ -23,6 +23,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -35,6 +36,13 @@ using Clock = std::chrono::steady_clock;
 
 constexpr double kPi = 3.14159265358979323846;
 const double kResolutions[] = {0.08, 0.04, 0.02, 0.01, 0.005};
+
+// A bench that prints a wrong answer measures nothing: stop with status 3.
+void require(bool ok, const std::string& what) {
+  if (ok) return;
+  std::fprintf(stderr, "plancheck_regolith_bench: wrong answer: %s\n", what.c_str());
+  std::exit(3);
+}
 
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
@@ -118,6 +126,12 @@ void analytic(const Scene& site) {
     }
     const double sms = 1e3 * since(t0) / reps;
     const double sexact = 0.1 * 0.06 * d;
+    // On cells of 2 cm and finer the box's footprint covers whole cells, so
+    // the carved volume is exact (to Embree's single precision).
+    require(tv > 0.0 && sv > 0.0, "nothing dug on the flat ground");
+    if (h <= 0.02 + 1e-12)
+      require(std::abs(sv / sexact - 1.0) < 1e-4, "box scoop carved " + std::to_string(sv) + " m^3 at cell " +
+                                                      std::to_string(h) + " m, exact " + std::to_string(sexact));
     std::printf("| %.1f | %.3f | %+.4f | %.3f | %+.4f | %.3f | %.3f |\n", h * 100, tv * 1e6, tv / texact - 1,
                 sv * 1e6, sv / sexact - 1, tms, sms);
   }
@@ -214,6 +228,8 @@ void probes(const Scene& site, const fs::path& dir) {
     for (std::size_t i = 0; i < origins.size(); ++i) {
       double m = 3.0;
       for (int k = 0; k < n; ++k) m = std::min(m, hits[i * n + k].distance);
+      // A ray's first hit is never nearer than the nearest terrain point.
+      require(m >= exact[i] - 1e-5, "fan clearance below the exact distance at state " + std::to_string(i));
       sum += m - exact[i];
       worst = std::max(worst, m - exact[i]);
     }
