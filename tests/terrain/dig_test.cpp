@@ -224,9 +224,10 @@ TEST(DefaultPlans, ScoopsReachTheSoilAndCollectWithinCapacity) {
       EXPECT_EQ(sum.over_capacity, sum.dug_volume > scene.scoop->capacity) << sum.dug_volume;
       EXPECT_NEAR(sum.collected_mass, sum.collected_volume * scene.scoop->bulk_density, 1e-12);
       // Soil is conserved along the whole plan: grid + scoop (swept model).
-      if (model == "swept")
+      if (model == "swept") {
         EXPECT_NEAR(soil_volume(digger.undisturbed()) - soil_volume(g), sum.collected_volume,
                     1e-9 * sum.dug_volume);
+      }
       // The scoop volume never shrinks along the plan (nothing is poured back in the model).
       for (std::size_t i = 1; i < steps.size(); ++i) EXPECT_GE(steps[i].volume, steps[i - 1].volume);
     }
