@@ -6,6 +6,7 @@
 #include "src/error.h"
 #include "src/scene_loader.h"
 #include "src/scene_summary.h"
+#include "src/sweep.h"
 
 #include <CLI/CLI.hpp>
 
@@ -46,6 +47,21 @@ int main(int argc, char** argv) {
   dig_cmd->add_option("PLAN", dig_plan, "plan file (CSV)")->required();
   dig_cmd->add_option("--out", dig_out, "folder for before.asc, after.asc and dig.png")->capture_default_str();
 
+  plancheck::SweepArgs sweep;
+  long sweep_steps = 0;
+  std::string sweep_grid;
+  std::string sweep_out = "plancheck-sweep";
+  CLI::App* sweep_cmd = app.add_subcommand(
+      "sweep", "check a grid of configurations: DIR/sweep.csv per configuration, DIR/sweep.json summary");
+  sweep_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON)")->required();
+  CLI::Option* steps_opt = sweep_cmd->add_option(
+      "--steps", sweep_steps, "values per driving parameter with limits, ends included (default 9)");
+  CLI::Option* grid_opt = sweep_cmd->add_option(
+      "--grid", sweep_grid, "NAME=FROM:TO:STEP,... in plan units; parameters not named keep their reference value");
+  steps_opt->excludes(grid_opt);
+  sweep_cmd->add_option("--out", sweep_out, "folder for sweep.csv and sweep.json")->capture_default_str();
+  sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+
   CLI::App* bench_cmd = app.add_subcommand(
       "bench", "reproduce the paper's Table 3 beside FCL: SCENE [PLAN...] [--json FILE] [--fcl] (runs plancheck_bench)");
   bench_cmd->allow_extras();
@@ -73,6 +89,12 @@ int main(int argc, char** argv) {
       dig.plan = dig_plan;
       dig.out = dig_out;
       return plancheck::run_dig(dig, std::cout);
+    } else if (sweep_cmd->parsed()) {
+      sweep.scene = scene_file;
+      if (*steps_opt) sweep.steps = sweep_steps;
+      if (*grid_opt) sweep.grid = sweep_grid;
+      sweep.out = sweep_out;
+      return plancheck::run_sweep(sweep, std::cout, std::cerr);
     } else if (bench_cmd->parsed()) {
       return plancheck::run_bench(bench_cmd->remaining(), std::cerr);
     }

@@ -47,6 +47,14 @@ double box_distance(const Box& a, const Box& b) {
 
 }  // namespace
 
+Verdict state_verdict(const StateResult& st, double margin) {
+  if (st.collision) return Verdict::kCollision;
+  // Below the margin, or too close to it to settle in double: a violation.
+  if (margin > 0.0 && st.part_a >= 0 && st.min_distance < margin + kDistanceTolerance) return Verdict::kClearance;
+  if (st.limit_action >= 0) return Verdict::kLimits;
+  return Verdict::kSafe;
+}
+
 const char* verdict_name(Verdict v) {
   switch (v) {
     case Verdict::kSafe: return "safe";
@@ -281,7 +289,7 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
     lower[k] = box_distance(box[a], box[b]);
     if (lower[k] > 0.0) continue;
     CollideResult r;
-    collide(models_[a], *pose[a], models_[b], *pose[b], CollideRequest{kMaxTrianglePairsListed}, r);
+    collide(models_[a], *pose[a], models_[b], *pose[b], CollideRequest{request.max_triangle_pairs}, r);
     if (!r.collide) continue;
     // Back to mesh triangle indices where triangles were left out.
     const auto& ka = kept_[static_cast<std::size_t>(a)];
@@ -291,6 +299,7 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
       if (!kb.empty()) j = kb[j];
     }
     out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
+    if (!request.all_contacts) break;
   }
   out.collision = !out.contacts.empty();
   out.limit_action = first_limit_violation(scene_, params);
@@ -422,20 +431,16 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
       if (r.first_violation) continue;
       Violation v;
       v.state = s;
-      if (st.collision) {
-        v.kind = Verdict::kCollision;
+      v.kind = state_verdict(st, margin);
+      if (v.kind == Verdict::kSafe) continue;
+      if (v.kind == Verdict::kCollision) {
         v.part_a = st.contacts[0].part_a;
         v.part_b = st.contacts[0].part_b;
-      } else if (margin > 0.0 && st.part_a >= 0 && st.min_distance < margin + kDistanceTolerance) {
-        // Below the margin, or too close to it to settle in double: a violation.
-        v.kind = Verdict::kClearance;
+      } else if (v.kind == Verdict::kClearance) {
         v.part_a = st.part_a;
         v.part_b = st.part_b;
-      } else if (st.limit_action >= 0) {
-        v.kind = Verdict::kLimits;
-        v.action = st.limit_action;
       } else {
-        continue;
+        v.action = st.limit_action;
       }
       r.first_violation = v;
     }

@@ -58,6 +58,12 @@ struct StateResult {
 enum class Verdict { kSafe, kCollision, kClearance, kLimits, kTarget };
 const char* verdict_name(Verdict v);
 
+struct StateResult;
+// What one state shows on its own, ranked as verify reports it: collision,
+// then clearance (a distance below the margin, or within kDistanceTolerance
+// of it: too close to settle in double), then limits; kSafe otherwise.
+Verdict state_verdict(const StateResult& state, double safety_margin);
+
 struct Violation {
   std::size_t state = 0;
   Verdict kind = Verdict::kSafe;
@@ -95,6 +101,12 @@ struct CheckRequest {
   // reported is at most (1 + rel_tolerance) times the exact one. 0: exact.
   // Only the bench uses it; verify always checks exactly.
   double rel_tolerance = 0.0;
+  // Intersecting triangle pairs listed per colliding part pair; 0: the
+  // first one found only, which lets the search stop there.
+  std::size_t max_triangle_pairs = kMaxTrianglePairsListed;
+  // false: stop at the first colliding part pair (in checked-pair order), so
+  // contacts lists that one only. The verdict is the same.
+  bool all_contacts = true;
 };
 
 // Coherence between consecutive states of a plan: the previous state's
