@@ -9,7 +9,7 @@ packages=(
   libeigen3-dev libtbb-dev libembree-dev libassimp-dev
   nlohmann-json3-dev libcli11-dev libgmp-dev libpng-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libfcl-dev
+  libfcl-dev libcgal-dev
   assimp-testmodels dart-doc
 )
 if [ "${PLANCHECK_FUZZ:-0}" = 1 ]; then packages+=(clang libclang-rt-14-dev); fi

@@ -51,6 +51,22 @@ bool parse_finite(std::string_view s, double& value) {
   return ec == std::errc() && ptr == s.data() + s.size() && std::isfinite(value);
 }
 
+// A rotation angle in degrees, in radians. Whole turns are removed first,
+// exactly (std::remainder by 360 is exact in binary floating point), so
+// k * 360 deg poses exactly like 0 deg and a huge angle (1e6, 1e300 deg)
+// turns by its true remainder, instead of by v * pi/180 rounded: fl(2 pi)
+// has a sine of -2.4e-16, enough to lift a touching contact free, and for
+// |v| beyond 2^53 the rounding of the product is a random angle. The limit
+// check sees the angle as written: the reduced value is used only when it
+// is within the action's limits exactly when the written one is (always,
+// without limits). Radians are used as given: a whole turn is not a double.
+double degrees_to_radians(double v, double scale, const Action& a) {
+  const double written = v * scale;
+  const double reduced = std::remainder(v, 360.0) * scale;
+  auto within = [&](double x) { return !a.has_limits || (x >= a.lower && x <= a.upper); };
+  return within(reduced) == within(written) ? reduced : written;
+}
+
 }  // namespace
 
 Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
@@ -70,6 +86,7 @@ Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
   std::vector<std::string> column_name;
   std::vector<double> column_scale;       // plan unit -> SI
   std::vector<bool> column_is_factor;     // scale factors must be positive
+  std::vector<const Action*> column_turns;  // rotations in degrees: whole turns removed exactly
   long header_line = 0;
 
   std::string_view rest(text);
@@ -119,6 +136,7 @@ Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
           column_name.push_back(name);
           column_scale.push_back(1.0);
           column_is_factor.push_back(false);
+          column_turns.push_back(nullptr);
           continue;
         }
         int index = -1;
@@ -135,13 +153,16 @@ Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
         // Which action owns the parameter decides its unit.
         double scale = 1.0;
         bool factor = false;
+        const Action* turns = nullptr;
         for (const Action& a : scene.actions) {
           if (index < a.first_parameter || index >= a.first_parameter + a.parameter_count) continue;
           factor = a.type == ActionType::kScale;
           scale = a.type == ActionType::kRotate ? scene.angle_scale : factor ? 1.0 : scene.length_scale;
+          if (a.type == ActionType::kRotate && scene.angle_unit == "deg") turns = &a;
         }
         column_scale.push_back(scale);
         column_is_factor.push_back(factor);
+        column_turns.push_back(turns);
       }
       continue;
     }
@@ -165,7 +186,8 @@ Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
       }
       if (column_is_factor[c] && !(v > 0))
         fail(csv, "column '" + column_name[c] + "': scale factor must be positive", line_no, column);
-      state[static_cast<std::size_t>(p)] = v * column_scale[c];
+      state[static_cast<std::size_t>(p)] =
+          column_turns[c] ? degrees_to_radians(v, column_scale[c], *column_turns[c]) : v * column_scale[c];
     }
     plan.states.push_back(std::move(state));
     plan.lines.push_back(line_no);

@@ -171,6 +171,17 @@ int find_node(const Reader& r, const Scene& scene, const std::string& name, cons
   return found;
 }
 
+// The unit vector along a finite direction given at any scale. Dividing by
+// the largest |component| first keeps the norm free of underflow (axes like
+// [0, 0, 1e-300], whose squared norm is 0, or 1e-160, whose squared norm is
+// subnormal and inexact) and of overflow ([0, 0, 1e300], whose norm is inf
+// and would normalise to the zero vector). Only an all-zero vector is refused.
+Vec3 unit_direction(const Reader& r, const Vec3& v, const std::string& field, const char* message) {
+  const double largest = v.cwiseAbs().maxCoeff();
+  if (!(largest > 0.0)) r.error(field, message);
+  return (v / largest).normalized();
+}
+
 int kind_of(ActionType t) {  // translate with and without axis are one kind
   return t == ActionType::kRotate ? 0 : t == ActionType::kScale ? 2 : 1;
 }
@@ -199,9 +210,7 @@ void read_actions(const Reader& r, const Json& list, Scene& scene) {
       if (j.contains(key)) r.error(where + "." + key, "not allowed on a " + type + " action");
     };
     auto unit_axis = [&]() {
-      Vec3 axis = r.vec3(j["axis"], where + ".axis");
-      if (!(axis.norm() > 0.0)) r.error(where + ".axis", "zero-length axis");
-      return Vec3(axis.normalized());
+      return unit_direction(r, r.vec3(j["axis"], where + ".axis"), where + ".axis", "zero-length axis");
     };
     double limit_scale = 1.0;
     if (type == "rotate") {
@@ -428,9 +437,8 @@ void read_probes(const Reader& r, const Json& list, Scene& scene) {
     p.part = r.string(j["part"], where + ".part");
     p.part_index = find_part_or_fail(r, scene, p.part, where + ".part");
     p.origin = r.vec3(j["origin"], where + ".origin") * scene.length_scale;
-    Vec3 d = r.vec3(j["direction"], where + ".direction");
-    if (!(d.norm() > 0.0)) r.error(where + ".direction", "zero-length direction");
-    p.direction = d.normalized();
+    p.direction = unit_direction(r, r.vec3(j["direction"], where + ".direction"), where + ".direction",
+                                 "zero-length direction");
     p.max_range = positive(r, j["max_range"], where + ".max_range") * scene.length_scale;
     if (j.contains("fan")) {
       const Json& f = j["fan"];
