@@ -69,6 +69,16 @@ double degrees_to_radians(double v, double scale, const Action& a) {
 
 }  // namespace
 
+double parameter_to_si(const Scene& scene, int parameter, double value) {
+  for (const Action& a : scene.actions) {
+    if (parameter < a.first_parameter || parameter >= a.first_parameter + a.parameter_count) continue;
+    if (a.type == ActionType::kRotate)
+      return scene.angle_unit == "deg" ? degrees_to_radians(value, scene.angle_scale, a) : value * scene.angle_scale;
+    return a.type == ActionType::kScale ? value : value * scene.length_scale;
+  }
+  return value;
+}
+
 Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
   std::ifstream in(csv, std::ios::binary);
   if (!in) fail(csv, "cannot open plan file");

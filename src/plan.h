@@ -25,6 +25,11 @@ struct Plan {
   std::vector<long> lines;                 // file line of each state, for messages
 };
 
+// A value written for driving parameter `parameter` (plan units), in SI, as
+// a plan column reads it: degrees lose whole turns exactly (see plan.cpp),
+// lengths are scaled by length_unit, factors stay as they are.
+double parameter_to_si(const Scene& scene, int parameter, double value);
+
 // Throws InputError naming the file, line and column at fault.
 Plan load_plan(const Scene& scene, const std::filesystem::path& csv);
 

@@ -3,6 +3,7 @@
 
 #include "src/error.h"
 #include "src/parallel.h"
+#include "src/plan.h"
 #include "src/verify.h"
 
 #include <nlohmann/json.hpp>
@@ -155,7 +156,7 @@ std::vector<SweepAxis> sweep_axes_from_grid(const Scene& scene, const std::strin
     for (long i = 0; i <= static_cast<long>(n); ++i) {
       const double v = std::min(to, from + step * static_cast<double>(i));
       if (factor && !(v > 0.0)) grid_error(item, "scale factors must be positive");
-      axis.values.push_back(v * axis.scale);
+      axis.values.push_back(parameter_to_si(scene, parameter, v));
     }
     axes.push_back(std::move(axis));
   }

@@ -50,7 +50,7 @@ double box_distance(const Box& a, const Box& b) {
 Verdict state_verdict(const StateResult& st, double margin) {
   if (st.collision) return Verdict::kCollision;
   // Below the margin, or too close to it to settle in double: a violation.
-  if (margin > 0.0 && st.part_a >= 0 && st.min_distance < margin + kDistanceTolerance) return Verdict::kClearance;
+  if (margin > 0.0 && st.part_a >= 0 && st.min_distance < margin + st.distance_tolerance) return Verdict::kClearance;
   if (st.limit_action >= 0) return Verdict::kLimits;
   return Verdict::kSafe;
 }
@@ -353,6 +353,16 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
     }
   }
   if (out.collision) out.min_distance = 0.0;
+  if (out.part_a >= 0) {
+    double m = 0.0;
+    for (const int i : {out.part_a, out.part_b}) {
+      const Box& w = box[static_cast<std::size_t>(i)];
+      const auto& l = local_boxes_[static_cast<std::size_t>(i)];
+      m = std::max({m, w.lo.cwiseAbs().maxCoeff(), w.hi.cwiseAbs().maxCoeff(), l.first.cwiseAbs().maxCoeff(),
+                    l.second.cwiseAbs().maxCoeff()});
+    }
+    out.distance_tolerance = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() * m);
+  }
 }
 
 std::vector<PairContact> Checker::reference_contacts() const {

@@ -53,6 +53,12 @@ struct StateResult {
   Vec3 point_a = Vec3::Zero();        // closest points, reference frame (m)
   Vec3 point_b = Vec3::Zero();
   int limit_action = -1;              // first action outside its limits, or -1
+  // How close to the margin min_distance may be and still not settle it (m):
+  // kDistanceTolerance, or more for coordinates so large that the double
+  // distance's error bound (16 eps times the largest coordinate, see
+  // tests/stability) exceeds it: 64 eps times the largest coordinate of the
+  // closest pair's boxes, in the world and in their own frames.
+  double distance_tolerance = kDistanceTolerance;
 };
 
 enum class Verdict { kSafe, kCollision, kClearance, kLimits, kTarget };
@@ -60,8 +66,9 @@ const char* verdict_name(Verdict v);
 
 struct StateResult;
 // What one state shows on its own, ranked as verify reports it: collision,
-// then clearance (a distance below the margin, or within kDistanceTolerance
-// of it: too close to settle in double), then limits; kSafe otherwise.
+// then clearance (a distance below the margin, or within the state's
+// distance_tolerance of it: too close to settle in double), then limits;
+// kSafe otherwise.
 Verdict state_verdict(const StateResult& state, double safety_margin);
 
 struct Violation {

@@ -155,5 +155,30 @@ TEST(SceneStability, LunarRadiusTranslationKeepsFlagsAndDistances) {
   }
 }
 
+// The margin guard widens with the coordinates: at the lunar radius the
+// double distance may be off by more than the 1e-9 m guard (16 eps times
+// 1.7e6 m is 6e-9 m), so a distance 3e-9 m above the margin is settled as
+// safe near the origin and counted as a violation out there.
+TEST(SceneStability, MarginGuardGrowsWithCoordinates) {
+  BarScene s;
+  const auto states = s.states({"-1"});
+  const Checker near(s.scene);
+  const StateResult a = check(near, states[0]);
+  ASSERT_FALSE(a.collision);
+  EXPECT_EQ(a.distance_tolerance, kDistanceTolerance);
+  const double margin = a.min_distance - 3e-9;
+  EXPECT_EQ(state_verdict(a, margin), Verdict::kSafe);
+  EXPECT_EQ(state_verdict(a, a.min_distance - 0.5e-9), Verdict::kClearance);
+
+  const Scene far_scene = translated(s.scene, kLunarRadius * Vec3(0.48, -0.6, 0.64));
+  const Checker far(far_scene);
+  const StateResult b = check(far, states[0]);
+  ASSERT_FALSE(b.collision);
+  EXPECT_GE(b.distance_tolerance, 16.0 * std::numeric_limits<double>::epsilon() * kLunarRadius);
+  EXPECT_LT(b.distance_tolerance, 1e-7);
+  EXPECT_EQ(state_verdict(b, margin), Verdict::kClearance);
+  EXPECT_EQ(state_verdict(b, a.min_distance - 1e-6), Verdict::kSafe);
+}
+
 }  // namespace
 }  // namespace plancheck
