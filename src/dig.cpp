@@ -58,7 +58,7 @@ Digger::Digger(const Scene& scene, Dem undisturbed) : scene_(scene), base_(std::
 
 Digger::~Digger() = default;
 
-bool Digger::dig_template(Dem& grid, const Dem& start, const Vec3& m) const {
+bool Digger::dig_template(Dem& grid, const Dem& start, const Vec3& m, SampleRect* changed) const {
   const auto surface = dem_surface(grid, origin_, m.x(), m.y());
   if (!surface || !(m.z() < *surface)) return false;
   const ScoopConfig& sc = *scene_.scoop;
@@ -68,6 +68,7 @@ bool Digger::dig_template(Dem& grid, const Dem& start, const Vec3& m) const {
   const double u = (m.x() - origin_.x() - grid.x0) / h, v = (m.y() - origin_.y() - grid.y0) / h;
   const int c0 = std::max(0, static_cast<int>(std::floor(u - w / h))), c1 = std::min(grid.ncols - 1, static_cast<int>(std::ceil(u + w / h)));
   const int r0 = std::max(0, static_cast<int>(std::floor(v - w / h))), r1 = std::min(grid.nrows - 1, static_cast<int>(std::ceil(v + w / h)));
+  if (changed) *changed = {c0, r0, c1, r1};
   for (int r = r0; r <= r1; ++r)
     for (int c = c0; c <= c1; ++c) {
       const std::size_t i = at(grid, c, r);
@@ -88,7 +89,7 @@ bool Digger::dig_template(Dem& grid, const Dem& start, const Vec3& m) const {
 }
 
 double Digger::dig_swept(Dem& grid, const Affine& pose, double room, double& taken, double& spilled,
-                         std::array<int, 4>* window) const {
+                         std::array<int, 4>* window, SampleRect* changed) const {
   taken = spilled = 0.0;
   const double h = grid.cellsize, area = h * h;
   // The posed scoop's box bounds its footprint and its lowest point.
@@ -175,12 +176,14 @@ double Digger::dig_swept(Dem& grid, const Affine& pose, double room, double& tak
       for (std::size_t i : ring) grid.z[i] += dz;
     }
   }
-  relax(grid, scene_.scoop->repose_angle, cc0 - 2, cr0 - 2, cc1 + 2, cr1 + 2, &carved_mask);
+  // The relaxation window holds the carved cells and the spill ring.
+  relax(grid, scene_.scoop->repose_angle, cc0 - 2, cr0 - 2, cc1 + 2, cr1 + 2, &carved_mask, changed);
   if (window) *window = {cc0 - 2, cr0 - 2, cc1 + 2, cr1 + 2};
   return carved;
 }
 
-int Digger::relax(Dem& grid, double angle, int c0, int r0, int c1, int r1, const std::vector<unsigned char>* held) {
+int Digger::relax(Dem& grid, double angle, int c0, int r0, int c1, int r1, const std::vector<unsigned char>* held,
+                  SampleRect* touched) {
   const double h = grid.cellsize;
   const double limit_straight = std::tan(angle) * h, limit_diagonal = limit_straight * std::sqrt(2.0);
   // Each sample against its east, north, north-east and north-west neighbours
@@ -217,10 +220,16 @@ int Digger::relax(Dem& grid, double angle, int c0, int r0, int c1, int r1, const
     // Soil moving at the window's edge may steepen slopes just outside it.
     if (edge) --c0, --r0, ++c1, ++r1;
   }
+  if (touched) {
+    // Pairs reach one sample beyond the window on each side (clamped by refit).
+    *touched = {std::max(c0, 0) - 1, std::max(r0, 0) - 1, std::min(c1, grid.ncols - 1) + 1,
+                std::min(r1, grid.nrows - 1) + 1};
+  }
   return sweeps;
 }
 
-DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem& grid, std::vector<DigStep>& steps) const {
+DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem& grid, std::vector<DigStep>& steps,
+                            const AfterState& after_state) const {
   DigSummary sum;
   steps.assign(states.size(), DigStep{});
   if (!scene_.scoop) return sum;
@@ -237,11 +246,12 @@ DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem&
     const Affine pose = part_transform(scene_, sc.part_index, states[s]);
     const Vec3 m = pose * sc.bottom_point;
     DigStep& st = steps[s];
+    SampleRect changed;
     if (const auto u = dem_surface(base_, origin_, m.x(), m.y())) st.depth = std::max(*u - m.z(), 0.0);
     if (swept) {
       double taken = 0.0, spilled = 0.0;
       std::array<int, 4> window{};
-      const double carved = dig_swept(grid, pose, sc.capacity - volume, taken, spilled, &window);
+      const double carved = dig_swept(grid, pose, sc.capacity - volume, taken, spilled, &window, &changed);
       if (carved > 0.0) {
         st.in_soil = true;
         volume += taken;
@@ -255,14 +265,15 @@ DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem&
         holding = true;
       } else if (holding) {
         // The scoop has left the cut: its walls relax now.
-        relax(grid, sc.repose_angle, cut[0], cut[1], cut[2], cut[3]);
+        relax(grid, sc.repose_angle, cut[0], cut[1], cut[2], cut[3], nullptr, &changed);
         holding = false;
       }
-    } else if (dig_template(grid, start, m)) {
+    } else if (dig_template(grid, start, m, &changed)) {
       st.in_soil = true;
       volume = pit_volume(start, grid);
     }
     st.volume = volume;
+    if (after_state) after_state(s, grid, changed);
     if (st.depth > sum.deepest) {
       sum.deepest = st.depth;
       sum.deepest_state = s;

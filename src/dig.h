@@ -43,11 +43,13 @@
 // rounding. scoop_volume is the soil in the scoop.
 #pragma once
 
+#include "src/heightfield.h"
 #include "src/raycast.h"
 #include "src/scene.h"
 #include "src/terrain.h"
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -91,28 +93,39 @@ class Digger {
   const Dem& undisturbed() const { return base_; }
   const Vec3& origin() const { return origin_; }
 
+  // Called after each state's dig with the state's index, the grid as dug so
+  // far and a rectangle holding every sample that state changed (empty: none).
+  using AfterState = std::function<void(std::size_t, const Dem&, const SampleRect&)>;
+
   // Digs one plan into `grid` (the terrain before the plan: undisturbed, or
   // the previous plan's result with --dig-carry). Sequential by nature.
-  DigSummary dig_plan(const std::vector<std::vector<double>>& states, Dem& grid, std::vector<DigStep>& steps) const;
+  // The swept model's final relaxation (after the last state) is reported to
+  // no state.
+  DigSummary dig_plan(const std::vector<std::vector<double>>& states, Dem& grid, std::vector<DigStep>& steps,
+                      const AfterState& after_state = {}) const;
 
   // One template step with the scoop bottom at m; `start` is S (the plan's
-  // starting grid). Returns whether M was below the surface.
-  bool dig_template(Dem& grid, const Dem& start, const Vec3& m) const;
+  // starting grid). Returns whether M was below the surface; `changed`
+  // receives the samples it may have changed.
+  bool dig_template(Dem& grid, const Dem& start, const Vec3& m, SampleRect* changed = nullptr) const;
 
   // One swept step with the scoop posed by `pose`; `room` is what the scoop
   // can still take (m^3). Returns the carved volume; `taken` and `spilled`
   // split it.
   // `window` receives the carved cells' bounds grown by 2 (c0, r0, c1, r1)
-  // so the caller can relax the cut once the scoop has left.
+  // so the caller can relax the cut once the scoop has left; `changed` the
+  // samples it may have changed (carve, spill and relaxation).
   double dig_swept(Dem& grid, const Affine& pose, double room, double& taken, double& spilled,
-                   std::array<int, 4>* window = nullptr) const;
+                   std::array<int, 4>* window = nullptr, SampleRect* changed = nullptr) const;
 
   // Relaxes every slope steeper than `angle` in the window [c0, c1] x [r0, r1]
   // (grown while soil keeps moving at its edge). Samples marked in `held`
   // (the scoop's lower surface rests on them) neither give nor take soil:
-  // the scoop holds the walls of its cut until it leaves. Returns the sweeps made.
+  // the scoop holds the walls of its cut until it leaves. Returns the sweeps
+  // made; `touched` receives the samples it may have changed (the final,
+  // grown window and the neighbours its pairs reach).
   static int relax(Dem& grid, double angle, int c0, int r0, int c1, int r1,
-                   const std::vector<unsigned char>* held = nullptr);
+                   const std::vector<unsigned char>* held = nullptr, SampleRect* touched = nullptr);
 
  private:
   const Scene& scene_;

@@ -16,7 +16,12 @@ ProbeCaster::ProbeCaster(const Scene& scene) : scene_(scene) {
     names_.push_back(p.name);
   }
   if (scene.terrain && scene.terrain->collide) {
-    rays_.add_mesh(dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin));
+    terrain_ = std::make_unique<const Heightfield>(load_dem(scene.terrain->dem, scene.length_scale),
+                                                   scene.terrain->origin);
+    // Embree's bounds of the terrain are fixed at commit: widen them in z
+    // far beyond any dig (a pit or rim kilometres deep is not soil any
+    // scoop moves); only rays that miss the grid's footprint are culled.
+    rays_.add_heightfield(*terrain_, 1e4);
     names_.push_back("terrain");
   }
   rays_.commit();
@@ -43,13 +48,29 @@ std::vector<Vec3> ProbeCaster::fan_directions(const ProbeConfig& probe) {
 }
 
 void ProbeCaster::cast(const std::vector<std::vector<double>>& states, int threads,
-                       std::vector<std::vector<ProbeReading>>& out) const {
+                       std::vector<std::vector<ProbeReading>>& out, const Heightfield* terrain) const {
   const std::size_t np = scene_.probes.size();
   out.assign(states.size(), std::vector<ProbeReading>(np));
   if (np == 0 || states.empty()) return;
   // Chunks of states make one ray stream each, so Embree sees many rays at once.
   const std::size_t grain = std::max<std::size_t>(1, 4096 / std::max<std::size_t>(rays_per_state_, 1));
   parallel_for(states.size(), threads, grain, [&](std::size_t begin, std::size_t end, int) {
+    cast_range(states, begin, end, out, terrain);
+  });
+}
+
+void ProbeCaster::cast_state(const std::vector<double>& params, std::vector<ProbeReading>& out,
+                             const Heightfield* terrain) const {
+  std::vector<std::vector<ProbeReading>> one(1, std::vector<ProbeReading>(scene_.probes.size()));
+  const std::vector<std::vector<double>> states{params};
+  cast_range(states, 0, 1, one, terrain);
+  out = std::move(one[0]);
+}
+
+void ProbeCaster::cast_range(const std::vector<std::vector<double>>& states, std::size_t begin, std::size_t end,
+                             std::vector<std::vector<ProbeReading>>& out, const Heightfield* terrain) const {
+  const std::size_t np = scene_.probes.size();
+  {
     std::vector<Ray> rays;
     rays.reserve((end - begin) * rays_per_state_);
     for (std::size_t s = begin; s < end; ++s)
@@ -60,7 +81,7 @@ void ProbeCaster::cast(const std::vector<std::vector<double>>& states, int threa
         for (const Vec3& d : directions_[p]) rays.push_back({o, (t.linear() * d).normalized(), probe.max_range});
       }
     std::vector<RayHit> hits;
-    rays_.intersect(rays, hits);
+    rays_.intersect(rays, hits, terrain);
     std::size_t k = 0;
     for (std::size_t s = begin; s < end; ++s)
       for (std::size_t p = 0; p < np; ++p) {
@@ -69,7 +90,7 @@ void ProbeCaster::cast(const std::vector<std::vector<double>>& states, int threa
           if (hits[k].hit && hits[k].distance < best.distance) best = {hits[k].distance, hits[k].mesh};
         out[s][p] = best;
       }
-  });
+  }
 }
 
 }  // namespace plancheck

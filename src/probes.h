@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Probes: rays (or fans of rays) fixed to a part, cast at every state against
-// the static parts and the terrain with Embree. Built only when the scene has
-// probes. The terrain here is the undisturbed grid: digging changes a few
-// centimetres under the scoop, and a ray scene rebuilt per state would cost
-// more than the whole check; a probe pointed into a fresh pit reads the
-// surface as it was.
+// the static parts and the terrain with Embree (rtcIntersect1M on one scene).
+// Built only when the scene has probes. The static parts are Embree
+// triangle meshes; the terrain is an Embree user geometry whose callback
+// walks a Heightfield in double (raycast.h), so the one committed scene sees
+// whatever dug copy of the terrain a cast names: verify casts each state of
+// a digging scene against the terrain as dug through that state (see
+// regolith.cpp), and a probe pointed into a fresh pit reads its depth.
 //
 // Fan pattern: with count n > 1 and half angle a, ray k (k = 0..n-1) is the
 // probe direction d rotated by -a + 2a k / (n - 1) about the axis
@@ -13,9 +15,11 @@
 // spans the plane of d and e x d. The probe reports the shortest of its rays.
 #pragma once
 
+#include "src/heightfield.h"
 #include "src/raycast.h"
 #include "src/scene.h"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,11 +43,24 @@ class ProbeCaster {
 
   // out[s][p]: probe p (scene.probes order) at state s. Rays of many states
   // are cast as one stream; results do not depend on `threads`.
+  // terrain: a dug copy of terrain() to see (nullptr: the undisturbed one).
   void cast(const std::vector<std::vector<double>>& states, int threads,
-            std::vector<std::vector<ProbeReading>>& out) const;
+            std::vector<std::vector<ProbeReading>>& out, const Heightfield* terrain = nullptr) const;
+
+  // One state's readings (out[p]) against `terrain` (nullptr: undisturbed).
+  void cast_state(const std::vector<double>& params, std::vector<ProbeReading>& out,
+                  const Heightfield* terrain = nullptr) const;
+
+  // The undisturbed terrain the ray scene walks (nullptr: the scene has none).
+  const Heightfield* terrain() const { return terrain_.get(); }
 
  private:
+  // Rays of states [begin, end) into out.
+  void cast_range(const std::vector<std::vector<double>>& states, std::size_t begin, std::size_t end,
+                  std::vector<std::vector<ProbeReading>>& out, const Heightfield* terrain) const;
+
   const Scene& scene_;
+  std::unique_ptr<const Heightfield> terrain_;  // before rays_, which points into it
   RayScene rays_;
   std::vector<std::string> names_;            // per ray-scene mesh: part name or "terrain"
   std::vector<std::vector<Vec3>> directions_;  // per probe

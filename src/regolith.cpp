@@ -1,38 +1,85 @@
 // SPDX-License-Identifier: MIT
-// The scoop and probe passes of verify_plans, kept out of verify.cpp: they
-// change nothing the collision pass decides (the Scoop may touch the terrain
-// by allowed_collisions, and the other parts are checked against the
-// undisturbed terrain mesh; see README "Regolith").
+// The scoop and probe passes of verify_plans, kept out of verify.cpp. In a
+// digging scene each plan's states go in order: state s digs, a per-plan copy
+// of the terrain heightfield is refit over the samples that dig changed, and
+// then s's terrain pairs are checked and its probes cast against that copy.
+// So state s sees the terrain as dug through its own dig (the Scoop itself is
+// allowed to touch the terrain; every other part meets the pit and rim).
 #include "src/verify.h"
 
 #include "src/parallel.h"
 
+#include <chrono>
+#include <stdexcept>
+
 namespace plancheck {
 
 void dig_and_probe(const Checker& checker, const std::vector<Plan>& plans, std::vector<PlanResult>& results,
-                   const VerifyOptions& options) {
-  if (const Digger* built = checker.digger()) {
+                   const VerifyOptions& options, std::vector<std::vector<double>>& state_seconds) {
+  const ProbeCaster* caster = checker.probe_caster();
+  if (caster) {
+    for (std::size_t p = 0; p < plans.size(); ++p) {
+      results[p].probes.assign(plans[p].states.size(), std::vector<ProbeReading>());
+      results[p].probe_targets = caster->target_names();
+    }
+  }
+  const Digger* built = checker.digger();
+  // The terrain to dig as a heightfield: the checker's, or the probes' when
+  // the terrain is not a collision part (both come from the same DEM).
+  const Heightfield* base = checker.terrain() ? checker.terrain() : (caster ? caster->terrain() : nullptr);
+  const bool follow = built && base;  // states see the dug terrain
+  if (built) {
     const Digger& digger = *built;
+    const bool check = checker.terrain_is_dug();
+    double zmin = 0.0, zmax = 0.0;
+    if (base) {
+      double lo[3], hi[3];
+      if (base->block_box(static_cast<int>(base->levels().size()) - 1, 0, 0, lo, hi)) zmin = lo[2], zmax = hi[2];
+    }
+    const SampleRect whole{0, 0, digger.undisturbed().ncols - 1, digger.undisturbed().nrows - 1};
+    auto run_plan = [&](std::size_t p, Dem& grid, Heightfield* field) {
+      StateSeed seed;  // coherence along the plan's terrain pairs
+      auto after_state = [&](std::size_t s, const Dem& now, const SampleRect& changed) {
+        if (!field) return;
+        field->refit(now, changed);
+        if (caster) {
+          // The probe scene's Embree bounds were fixed at commit with 1e4 m of z slack.
+          double lo[3], hi[3];
+          if (field->block_box(static_cast<int>(field->levels().size()) - 1, 0, 0, lo, hi) &&
+              (lo[2] < zmin - 1e4 || hi[2] > zmax + 1e4))
+            throw std::runtime_error("dug terrain beyond the probe scene's bounds");
+          caster->cast_state(plans[p].states[s], results[p].probes[s], field);
+        }
+        if (!check) return;
+        const auto t0 = std::chrono::steady_clock::now();
+        checker.check_terrain(plans[p].states[s], *field, results[p].states[s], &seed);
+        state_seconds[p][s] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      };
+      results[p].dig = digger.dig_plan(plans[p].states, grid, results[p].dig_steps, after_state);
+    };
     if (options.dig_carry) {
       Dem grid = digger.undisturbed();
-      for (std::size_t p = 0; p < plans.size(); ++p)
-        results[p].dig = digger.dig_plan(plans[p].states, grid, results[p].dig_steps);
+      std::optional<Heightfield> field;
+      if (follow) field.emplace(*base);
+      for (std::size_t p = 0; p < plans.size(); ++p) {
+        // The previous plan's final relaxation belongs to no state: sync all.
+        if (field) field->refit(grid, whole);
+        run_plan(p, grid, field ? &*field : nullptr);
+      }
     } else {
       // Each plan starts from the undisturbed terrain: plans are independent.
       parallel_for(plans.size(), options.threads, 1, [&](std::size_t begin, std::size_t end, int) {
         for (std::size_t p = begin; p < end; ++p) {
           Dem grid = digger.undisturbed();
-          results[p].dig = digger.dig_plan(plans[p].states, grid, results[p].dig_steps);
+          std::optional<Heightfield> field;
+          if (follow) field.emplace(*base);
+          run_plan(p, grid, field ? &*field : nullptr);
         }
       });
     }
   }
-  if (const ProbeCaster* built = checker.probe_caster()) {
-    const ProbeCaster& caster = *built;
-    for (std::size_t p = 0; p < plans.size(); ++p) {
-      caster.cast(plans[p].states, options.threads, results[p].probes);
-      results[p].probe_targets = caster.target_names();
-    }
+  if (caster && !follow) {
+    for (std::size_t p = 0; p < plans.size(); ++p) caster->cast(plans[p].states, options.threads, results[p].probes);
   }
 }
 

@@ -124,7 +124,7 @@ Mesh dem_mesh(const Dem& dem, const Vec3& origin) {
   mesh.vertices.reserve(dem.z.size());
   for (int r = 0; r < dem.nrows; ++r)
     for (int c = 0; c < dem.ncols; ++c)
-      mesh.vertices.push_back(origin + Vec3(dem.x0 + c * dem.cellsize, dem.y0 + r * dem.cellsize, dem.height(c, r)));
+      mesh.vertices.push_back(dem_point(dem, origin, c, r));
   auto id = [&](int c, int r) { return static_cast<std::uint32_t>(r * dem.ncols + c); };
   for (int r = 0; r + 1 < dem.nrows; ++r)
     for (int c = 0; c + 1 < dem.ncols; ++c) {

@@ -33,8 +33,14 @@ struct Dem {
 // length_scale. Throws InputError naming the file and line.
 Dem load_dem(const std::filesystem::path& file, double length_scale);
 
-// The grid as triangles in the reference frame: sample (c, r) sits at
-// origin + (x0 + c*cellsize, y0 + r*cellsize, z). Each cell between four valid
+// Sample (c, r) in the reference frame: origin + (x0 + c*cellsize, y0 + r*cellsize, z).
+// dem_mesh and the Heightfield both place samples with this one function, so
+// their coordinates are the same doubles.
+inline Vec3 dem_point(const Dem& dem, const Vec3& origin, int c, int r) {
+  return origin + Vec3(dem.x0 + c * dem.cellsize, dem.y0 + r * dem.cellsize, dem.height(c, r));
+}
+
+// The grid as triangles in the reference frame: sample (c, r) at dem_point. Each cell between four valid
 // samples gives two triangles; cells touching a NODATA sample are holes.
 Mesh dem_mesh(const Dem& dem, const Vec3& origin);
 

@@ -73,13 +73,21 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene) {
     meshes.push_back(&p.mesh);
     chain_of_.push_back(p.moving() ? p.chain_id : -1);
   }
+  // The terrain is a heightfield, never a BVH over its triangles. Its mesh
+  // is drawn only to bound the minimum distance for pruning (below), and
+  // only when nothing digs it: a dug terrain's vertices move, so its
+  // undisturbed vertices bound nothing.
   Mesh terrain_mesh;
   const bool terrain = scene.terrain && scene.terrain->collide;
+  const bool dug = terrain && scene.scoop;
   if (terrain) {
-    terrain_mesh = dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin);
+    const Dem dem = load_dem(scene.terrain->dem, scene.length_scale);
+    terrain_ = std::make_unique<const Heightfield>(dem, scene.terrain->origin);
+    if (!dug) terrain_mesh = dem_mesh(dem, scene.terrain->origin);
     names_.push_back("terrain");
     meshes.push_back(&terrain_mesh);
     chain_of_.push_back(-1);
+    terrain_index_ = static_cast<int>(names_.size()) - 1;
   }
 
   // The moving part first in each pair, as reports name them (arm part, then what it meets).
@@ -96,6 +104,7 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene) {
       const auto& allowed = scene.terrain_allowed_parts;
       if (std::find(allowed.begin(), allowed.end(), static_cast<int>(i)) != allowed.end()) continue;
       pairs_.push_back({static_cast<int>(i), t});
+      has_terrain_pairs_ = true;
     }
   }
 
@@ -105,6 +114,7 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene) {
   left_out_ = prune_static(scene, meshes, pruned);
 
   // Build the per-part structures in parallel: parts are independent.
+  if (terrain) meshes.pop_back();  // the heightfield above is the terrain's structure
   std::vector<std::optional<CollisionModel>> built(meshes.size());
   parallel_for(meshes.size(), threads, 1, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t i = begin; i < end; ++i) built[i].emplace(*meshes[i]);
@@ -188,6 +198,7 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
         rm = part_reach(scene, scene.parts[mi].chain, *meshes[mi]);
         if (!rm.bounded) return 0;  // a partner without a reach bound: keep everything
       }
+      // (An empty mesh, the dug terrain, gives infinity: no bound from it.)
       double nearest = std::numeric_limits<double>::infinity();
       for (const Tri& t : meshes[s]->triangles)
         for (std::uint32_t v : t) nearest = std::min(nearest, (meshes[s]->vertices[v] - rm.centre).norm());
@@ -199,7 +210,7 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
   const double limit = upper * (1.0 + 1e-9) + 1e-9;
   std::size_t dropped = 0;
   for (std::size_t s = 0; s < n; ++s) {
-    if (chain_of_[s] >= 0) continue;
+    if (chain_of_[s] >= 0 || static_cast<int>(s) == terrain_index_) continue;  // the heightfield culls itself
     const Mesh& mesh = *meshes[s];
     std::vector<std::uint32_t> keep;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
@@ -233,20 +244,43 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
 }
 
 std::size_t Checker::triangle_count() const {
-  std::size_t n = 0;
+  std::size_t n = terrain_ ? terrain_->triangle_count() : 0;
   for (const auto& m : models_) n += m.triangle_count();
   return n;
 }
 
 std::size_t Checker::memory_bytes() const {
-  std::size_t n = 0;
+  std::size_t n = terrain_ ? terrain_->memory_bytes() : 0;
   for (const auto& m : models_) n += m.memory_bytes();
   return n;
 }
 
-void Checker::check_state(const std::vector<double>& params, StateResult& out,
-                          const CheckRequest& request, StateSeed* seed) const {
+void Checker::check_terrain(const std::vector<double>& params, const Heightfield& terrain, StateResult& out,
+                            StateSeed* seed) const {
+  StateResult t;
+  // A state already colliding needs only the terrain's contacts.
+  check_pairs(params, t, CheckRequest{!out.collision, 0.0}, seed, &terrain, kTerrainPairs,
+              out.collision ? std::numeric_limits<double>::infinity() : out.min_distance);
+  if (t.collision) {
+    const bool first = !out.collision;
+    for (PairContact& c : t.contacts) out.contacts.push_back(std::move(c));
+    out.collision = true;
+    if (!first) return;
+  } else if (out.collision || t.part_a < 0 || !(t.min_distance < out.min_distance)) {
+    return;
+  }
+  out.min_distance = t.min_distance;
+  out.distance_tolerance = t.distance_tolerance;
+  out.part_a = t.part_a;
+  out.part_b = t.part_b;
+  out.point_a = t.point_a;
+  out.point_b = t.point_b;
+}
+
+void Checker::check_pairs(const std::vector<double>& params, StateResult& out, const CheckRequest& request,
+                          StateSeed* seed, const Heightfield* terrain, PairSet which, double bound) const {
   out = StateResult{};
+  out.min_distance = bound;
   // Per-thread scratch: a state allocates nothing once its thread has
   // checked one state (collision-only checks take ~2 us, where a handful of
   // heap allocations would show).
@@ -276,14 +310,41 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
     }
   }
 
+  // The terrain's box: its pyramid's root, padded as a static part's box.
+  Box terrain_box;
+  if (terrain && terrain->triangle_count() > 0) {
+    double lo[3], hi[3];
+    terrain->block_box(static_cast<int>(terrain->levels().size()) - 1, 0, 0, lo, hi);
+    terrain_box = posed_box({Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}, kIdentity);
+  }
+
   // Collision: every checked pair whose part boxes meet.
   std::vector<double>& lower = scratch.lower;
   lower.assign(pairs_.size(), 0.0);
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     const auto [a, b] = pairs_[k];
-    // A part whose triangles were all left out has an empty (inverted) box.
-    if (models_[a].triangle_count() == 0 || models_[b].triangle_count() == 0) {
+    const bool on_terrain = b == terrain_index_;
+    // Pairs outside `which`, and a part whose triangles were all left out
+    // (an empty, inverted box), take no part.
+    if (on_terrain ? (which == kNonTerrainPairs || !terrain || terrain->triangle_count() == 0)
+                   : which == kTerrainPairs) {
       lower[k] = std::numeric_limits<double>::infinity();
+      continue;
+    }
+    if (models_[a].triangle_count() == 0 || (!on_terrain && models_[b].triangle_count() == 0)) {
+      lower[k] = std::numeric_limits<double>::infinity();
+      continue;
+    }
+    if (on_terrain) {
+      lower[k] = box_distance(box[a], terrain_box);
+      if (lower[k] > 0.0) continue;
+      CollideResult r;
+      collide(models_[a], *pose[a], *terrain, CollideRequest{kMaxTrianglePairsListed}, r);
+      if (!r.collide) continue;
+      const auto& ka = kept_[static_cast<std::size_t>(a)];
+      for (auto& ij : r.triangle_pairs)
+        if (!ka.empty()) ij.first = ka[ij.first];
+      out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
       continue;
     }
     lower[k] = box_distance(box[a], box[b]);
@@ -342,7 +403,10 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
       q.seed_slot_b = hint.slot_b;
     }
     DistanceResult r;
-    distance(models_[a], *pose[a], models_[b], *pose[b], q, r);
+    if (b == terrain_index_)
+      distance(models_[a], *pose[a], *terrain, q, r);
+    else
+      distance(models_[a], *pose[a], models_[b], *pose[b], q, r);
     if (r.found && r.distance < out.min_distance) {
       if (seed) *seed = StateSeed{static_cast<int>(k), r.slot_a, r.slot_b};
       out.min_distance = r.distance;
@@ -353,13 +417,20 @@ void Checker::check_state(const std::vector<double>& params, StateResult& out,
     }
   }
   if (out.collision) out.min_distance = 0.0;
+  if (out.part_a < 0) out.min_distance = std::numeric_limits<double>::infinity();
   if (out.part_a >= 0) {
+    // The terrain has no model or local box: its pyramid's root box is both.
     double m = 0.0;
+    auto grow = [&m](const Vec3& lo, const Vec3& hi) {
+      m = std::max({m, lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()});
+    };
     for (const int i : {out.part_a, out.part_b}) {
-      const Box& w = box[static_cast<std::size_t>(i)];
-      const auto& l = local_boxes_[static_cast<std::size_t>(i)];
-      m = std::max({m, w.lo.cwiseAbs().maxCoeff(), w.hi.cwiseAbs().maxCoeff(), l.first.cwiseAbs().maxCoeff(),
-                    l.second.cwiseAbs().maxCoeff()});
+      if (i == terrain_index_) {
+        grow(terrain_box.lo, terrain_box.hi);
+        continue;
+      }
+      grow(box[static_cast<std::size_t>(i)].lo, box[static_cast<std::size_t>(i)].hi);
+      grow(local_boxes_[static_cast<std::size_t>(i)].first, local_boxes_[static_cast<std::size_t>(i)].second);
     }
     out.distance_tolerance = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() * m);
   }
@@ -413,16 +484,26 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
   // reported, does not depend on the thread count.
   constexpr std::size_t kRun = 16;
   const std::size_t runs = (items.size() + kRun - 1) / kRun;
+  // A digging scene's terrain pairs wait for the dig pass (regolith.cpp),
+  // which checks each state against the terrain as dug through that state.
+  const bool terrain_later = options.regolith && checker.terrain_is_dug();
   parallel_for(runs, options.threads, 1, [&](std::size_t run_begin, std::size_t run_end, int) {
     StateSeed seed;
     for (std::size_t i = run_begin * kRun; i < std::min(items.size(), run_end * kRun); ++i) {
       const auto [p, s] = items[i];
       if (i % kRun == 0 || items[i - 1].first != p) seed = StateSeed{};
       const auto t0 = std::chrono::steady_clock::now();
-      checker.check_state(plans[p].states[s], results[p].states[s], CheckRequest{}, &seed);
+      if (terrain_later)
+        checker.check_state_without_terrain(plans[p].states[s], results[p].states[s], CheckRequest{}, &seed);
+      else
+        checker.check_state(plans[p].states[s], results[p].states[s], CheckRequest{}, &seed);
       state_seconds[p][s] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
   });
+
+  // Digging (with the terrain pairs of digging scenes) and probes, before
+  // the verdicts: the dug terrain's contacts and distances are part of them.
+  if (options.regolith) dig_and_probe(checker, plans, results, options, state_seconds);
 
   const double margin = scene.safety_margin;
   for (std::size_t p = 0; p < plans.size(); ++p) {
@@ -467,7 +548,6 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
     }
     r.verdict = r.first_violation ? r.first_violation->kind : Verdict::kSafe;
   }
-  if (options.regolith) dig_and_probe(checker, plans, results, options);
   return results;
 }
 

@@ -7,6 +7,7 @@
 
 #include "src/collision_model.h"
 #include "src/dig.h"
+#include "src/heightfield.h"
 #include "src/probes.h"
 #include "src/plan.h"
 #include "src/scene.h"
@@ -153,11 +154,39 @@ class Checker {
     return out;
   }
 
-  // Checks one configuration (a full parameter vector, SI).
+  // Checks one configuration (a full parameter vector, SI) against every
+  // checked pair, the terrain pairs against the undisturbed terrain.
   // seed (optional, in/out): read as the hint, then set to this state's
   // closest pair for the next state.
   void check_state(const std::vector<double>& params, StateResult& out,
-                   const CheckRequest& request = {}, StateSeed* seed = nullptr) const;
+                   const CheckRequest& request = {}, StateSeed* seed = nullptr) const {
+    check_pairs(params, out, request, seed, terrain_.get(), kAllPairs);
+  }
+
+  // The same without the terrain pairs; check_terrain() adds them later
+  // against a dug terrain. Together they give check_state's verdict inputs.
+  void check_state_without_terrain(const std::vector<double>& params, StateResult& out,
+                                   const CheckRequest& request = {}, StateSeed* seed = nullptr) const {
+    check_pairs(params, out, request, seed, nullptr, kNonTerrainPairs);
+  }
+
+  // Checks the terrain pairs of one state against `terrain` (the undisturbed
+  // terrain() or a copy of it refit where digging changed it) and merges
+  // them into `out`, which holds that state's other pairs: contacts are
+  // appended in pair order (so the first contact is the same as check_state
+  // would list), and the minimum distance moves to a terrain pair only when
+  // strictly closer (or when the terrain contact is the state's first). seed
+  // as in check_state, for the terrain pairs alone.
+  void check_terrain(const std::vector<double>& params, const Heightfield& terrain, StateResult& out,
+                     StateSeed* seed = nullptr) const;
+
+  // The terrain as a heightfield (nullptr: no colliding terrain) and its
+  // index in the part list.
+  const Heightfield* terrain() const { return terrain_.get(); }
+  int terrain_index() const { return terrain_index_; }
+  // Whether verify_plans checks the terrain pairs against the dug terrain:
+  // the scene digs (scoop and terrain) and some pair involves the terrain.
+  bool terrain_is_dug() const { return digger_ && terrain_ && has_terrain_pairs_; }
 
   // The pairs in contact (touching or intersecting) at the reference pose.
   std::vector<PairContact> reference_contacts() const;
@@ -170,13 +199,22 @@ class Checker {
   struct PairRef {
     int a, b;
   };
+  enum PairSet { kAllPairs, kNonTerrainPairs, kTerrainPairs };
+  // The pair loop of check_state over `which` pairs, terrain pairs against
+  // `terrain`; a distance search starts below `bound` (m).
+  void check_pairs(const std::vector<double>& params, StateResult& out, const CheckRequest& request,
+                   StateSeed* seed, const Heightfield* terrain, PairSet which,
+                   double bound = std::numeric_limits<double>::infinity()) const;
   // Replaces meshes[i] of static parts by their reachable triangles (held in
   // storage), fills kept_; returns how many triangles were left out.
   std::size_t prune_static(const Scene& scene, std::vector<const Mesh*>& meshes,
                            std::vector<Mesh>& storage);
   const Scene& scene_;
   std::vector<std::string> names_;
-  std::vector<CollisionModel> models_;  // one per checked part (parts, then terrain)
+  std::vector<CollisionModel> models_;  // one per scene part (the terrain is terrain_)
+  std::unique_ptr<const Heightfield> terrain_;  // the undisturbed terrain, when it collides
+  int terrain_index_ = -1;                      // its index in names_
+  bool has_terrain_pairs_ = false;
   std::vector<int> chain_of_;           // chain id per checked part, -1 when static
   std::vector<std::pair<Vec3, Vec3>> local_boxes_;  // (lo, hi) per part, its own frame
   std::vector<std::pair<Vec3, Vec3>> static_boxes_;  // posed (identity) boxes of static parts, once
@@ -196,9 +234,14 @@ class Checker {
 
 // The scoop and probe passes (src/regolith.cpp): digging runs sequentially
 // along each plan (plans in parallel unless options.dig_carry), so results do
-// not depend on the thread count.
+// not depend on the thread count. In a digging scene, state s of a plan sees
+// the terrain as dug by states 0..s of that plan (its own dig included; with
+// dig_carry, after the earlier plans' digs too): its terrain pairs are
+// checked there (Checker::check_terrain, adding the time to
+// state_seconds[p][s]) and its probes cast there. Without digging, probes see
+// the undisturbed terrain.
 void dig_and_probe(const Checker& checker, const std::vector<Plan>& plans, std::vector<PlanResult>& results,
-                   const VerifyOptions& options);
+                   const VerifyOptions& options, std::vector<std::vector<double>>& state_seconds);
 
 std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
                                      const std::vector<Plan>& plans, const VerifyOptions& options);

@@ -3,6 +3,7 @@
 // against a box) and Embree's ray casting against a brute-force double
 // precision ray-triangle reference.
 #include "src/probes.h"
+#include "src/terrain.h"
 #include "src/raycast.h"
 
 #include "tests/support/fixtures.h"
@@ -74,6 +75,21 @@ TEST(Probes, RayStraightDownMeetsAFlatGridAtItsHeight) {
   EXPECT_EQ(out[0][2].hit, -1);
   EXPECT_EQ(out[0][2].distance, 1.0);
   EXPECT_EQ(out[1][0].distance, out[0][0].distance);
+
+  // A pit dug under the probe, seen through a refit copy of the caster's
+  // terrain; the undisturbed terrain still reads the surface.
+  ASSERT_NE(caster.terrain(), nullptr);
+  Dem dug = load_dem(dir / "flat.asc", 1.0);
+  for (int r = 5; r <= 12; ++r)
+    for (int c = 5; c <= 12; ++c) dug.z[static_cast<std::size_t>(r) * dug.ncols + c] -= 0.07;
+  Heightfield pit = *caster.terrain();
+  pit.refit(dug, {5, 5, 12, 12});
+  std::vector<ProbeReading> one;
+  caster.cast_state({}, one, &pit);
+  EXPECT_NEAR(one[0].distance, 2.0 - 0.4 + 0.07, 1e-6);
+  EXPECT_EQ(caster.target_name(one[0].hit), "terrain");
+  caster.cast_state({}, one);
+  EXPECT_EQ(one[0].distance, out[0][0].distance);
 }
 
 TEST(Probes, FanPatternIsPlanarEvenAndCentred) {

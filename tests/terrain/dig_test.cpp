@@ -2,6 +2,7 @@
 // Digging: the template model against closed forms on flat ground, the swept
 // model's conservation and repose, and the default plans' scoops.
 #include "src/dig.h"
+#include "src/heightfield.h"
 #include "src/plan.h"
 #include "src/scene_loader.h"
 
@@ -230,6 +231,46 @@ TEST(DefaultPlans, ScoopsReachTheSoilAndCollectWithinCapacity) {
       }
       // The scoop volume never shrinks along the plan (nothing is poured back in the model).
       for (std::size_t i = 1; i < steps.size(); ++i) EXPECT_GE(steps[i].volume, steps[i - 1].volume);
+    }
+  }
+}
+
+// Refit over each state's reported changed samples keeps the heightfield
+// equal to one built fresh from the dug grid, for both dig models.
+TEST(DefaultPlans, RefitOverReportedChangesEqualsAFreshHeightfield) {
+  const std::filesystem::path dir = std::filesystem::path(PLANCHECK_SOURCE_DIR) / "datasets/change5";
+  if (!std::filesystem::exists(dir / "scene.json")) GTEST_SKIP() << "run build/generate_change5 " << dir;
+  Scene scene = load_scene(dir / "scene.json");
+  ASSERT_TRUE(scene.scoop);
+  for (const std::string model : {"template", "swept"}) {
+    scene.scoop->model = model;
+    const Digger digger(scene);
+    for (const std::string name : {"plan01", "plan04"}) {
+      SCOPED_TRACE(model + " " + name);
+      const Plan plan = load_plan(scene, dir / "plans" / (name + ".csv"));
+      Dem g = digger.undisturbed();
+      Heightfield field(g, digger.origin());
+      std::vector<DigStep> steps;
+      int changed_states = 0;
+      digger.dig_plan(plan.states, g, steps, [&](std::size_t s, const Dem& now, const SampleRect& changed) {
+        changed_states += changed.empty() ? 0 : 1;
+        field.refit(now, changed);
+        const Heightfield fresh(now, digger.origin());
+        for (int r = 0; r < now.nrows; ++r)
+          for (int c = 0; c < now.ncols; ++c)
+            if (field.z(c, r) != fresh.z(c, r)) {
+              ADD_FAILURE() << "state " << s << " sample " << c << " " << r;
+              return;
+            }
+        for (std::size_t l = 0; l < field.levels().size(); ++l)
+          for (std::size_t b = 0; b < field.levels()[l].blocks.size(); ++b)
+            if (field.levels()[l].blocks[b].zmin != fresh.levels()[l].blocks[b].zmin ||
+                field.levels()[l].blocks[b].zmax != fresh.levels()[l].blocks[b].zmax) {
+              ADD_FAILURE() << "state " << s << " level " << l << " block " << b;
+              return;
+            }
+      });
+      EXPECT_GT(changed_states, 5);
     }
   }
 }
