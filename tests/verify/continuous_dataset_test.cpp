@@ -92,9 +92,15 @@ void expect_dense_agrees(const Checker& checker, const SegmentChecker& seg, doub
     prev_q = q;
     prev_d = d;
   }
-  if (collision) EXPECT_TRUE(g.collision);
-  if (min_sampled < margin) EXPECT_TRUE(g.collision || g.clearance);
-  if (lower >= margin + seg.options().tolerance) EXPECT_FALSE(g.collision || g.clearance);
+  if (collision) {
+    EXPECT_TRUE(g.collision);
+  }
+  if (min_sampled < margin) {
+    EXPECT_TRUE(g.collision || g.clearance);
+  }
+  if (lower >= margin + seg.options().tolerance) {
+    EXPECT_FALSE(g.collision || g.clearance);
+  }
   EXPECT_LE(g.lower_bound, min_sampled);
 }
 
@@ -144,7 +150,10 @@ TEST(ContinuousDataset, GrazingPathsThroughBadStatesAreCaughtAndDenseSamplingAgr
       for (int k = 0; k < 6; ++k) {
         std::vector<double> u(n);
         double norm = 0.0;
-        for (double& x : u) norm += (x = normal(rng)) * x;
+        for (double& x : u) {
+          x = normal(rng);
+          norm += x * x;
+        }
         for (double& x : u) x /= std::sqrt(norm);
         dirs.push_back(u);
       }
@@ -160,7 +169,9 @@ TEST(ContinuousDataset, GrazingPathsThroughBadStatesAreCaughtAndDenseSamplingAgr
     f.checker->check_state(s.qa, a);
     f.checker->check_state(s.qb, b);
     const SegmentResult g = seg.check(s.qa, s.qb, a, b);
-    if (collides) EXPECT_TRUE(g.collision);
+    if (collides) {
+      EXPECT_TRUE(g.collision);
+    }
     EXPECT_TRUE(g.collision || g.clearance);
     if (i % 5 == 0 && dense_checked < 8) {
       expect_dense_agrees(*f.checker, seg, margin, s, g, 1000);

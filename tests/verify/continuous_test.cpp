@@ -118,10 +118,18 @@ void expect_agrees_with_dense(const Run& r, int n, int* flagged = nullptr) {
       const SegmentResult& g = r.results[p].segments[s];
       ASSERT_TRUE(g.checked);
       const Dense d = dense(*r.checker, seg, r.plans[p].states[s], r.plans[p].states[s + 1], n);
-      if (d.collision) EXPECT_TRUE(g.collision);
-      if (d.min_sampled < kMargin) EXPECT_TRUE(g.clearance || g.collision);
-      if (d.lower >= kMargin + tol) EXPECT_FALSE(g.clearance || g.collision) << d.lower;
-      if (!d.collision && d.lower > ContinuousOptions{}.contact_tolerance) EXPECT_FALSE(g.collision);
+      if (d.collision) {
+        EXPECT_TRUE(g.collision);
+      }
+      if (d.min_sampled < kMargin) {
+        EXPECT_TRUE(g.clearance || g.collision);
+      }
+      if (d.lower >= kMargin + tol) {
+        EXPECT_FALSE(g.clearance || g.collision) << d.lower;
+      }
+      if (!d.collision && d.lower > ContinuousOptions{}.contact_tolerance) {
+        EXPECT_FALSE(g.collision);
+      }
       EXPECT_LE(g.lower_bound, d.min_sampled);
       EXPECT_GE(g.min_sampled, d.lower - 1e-12);
       if (flagged && (g.clearance || g.collision)) ++*flagged;
