@@ -39,6 +39,7 @@ bench: dataset
 	$(BUILD)/plancheck_bench --benchmark_min_time=0.2
 	$(BUILD)/plancheck bench $(DATASET)/scene.json --fcl --fcl-repetitions 5 --repetitions 9 --json $(BUILD)/table3.json
 	$(BUILD)/plancheck_regolith_bench $(DATASET)
+	$(BUILD)/plancheck_continuous_bench $(DATASET)
 
 clean:
 	rm -rf $(BUILD) $(DATASET)

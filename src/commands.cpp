@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "src/commands.h"
 
+#include "src/continuous.h"
+#include "src/error.h"
+
 #include "src/parallel.h"
 #include "src/plan.h"
 #include "src/report.h"
@@ -8,6 +11,7 @@
 #include "src/verify.h"
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <iostream>
 
@@ -33,6 +37,10 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
   auto t0 = std::chrono::steady_clock::now();
   err << "plancheck: loading " << args.scene.string() << "\n";
   const Scene scene = load_scene(args.scene);
+  ContinuousOptions options;
+  if (args.continuous_tolerance > 0.0) options.tolerance = args.continuous_tolerance * scene.length_scale;
+  if (!(options.tolerance >= 10.0 * kDistanceTolerance) || !std::isfinite(options.tolerance))
+    throw InputError("--continuous-tolerance: must be a finite length of at least 1e-8 m");
   // Every plan is read before anything is checked: a bad plan fails the run
   // before any report is written.
   std::vector<Plan> plans;
@@ -51,7 +59,16 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
   err << "plancheck: checking " << states << " states of " << plans.size() << " plans on " << info.threads
       << " threads\n";
   t0 = std::chrono::steady_clock::now();
-  const auto results = verify_plans(checker, scene, plans, VerifyOptions{info.threads, args.dig_carry});
+  auto results = verify_plans(checker, scene, plans, VerifyOptions{info.threads, args.dig_carry});
+  if (args.continuous) {
+    const auto tc = std::chrono::steady_clock::now();
+    options.threads = info.threads;
+    err << "plancheck: certifying " << (states - plans.size()) << " segments between states\n";
+    verify_segments(checker, scene, plans, results, options);
+    info.continuous_tolerance = options.tolerance;
+    info.contact_tolerance = options.contact_tolerance;
+    info.continuous_seconds = seconds_since(tc);
+  }
   info.check_seconds = seconds_since(t0);
 
   write_reports(checker, scene, results, info, args.out);

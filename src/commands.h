@@ -16,6 +16,8 @@ struct VerifyArgs {
   int threads = 0;           // 0: all hardware threads
   bool json = false;         // stdout: report.json instead of the plan lines
   bool dig_carry = false;    // the terrain dug by one plan is the next plan's start
+  bool continuous = false;   // also certify the motion between consecutive states (src/continuous.h)
+  double continuous_tolerance = 0.0;  // clearance witness tolerance, scene length_unit; 0: the default
 };
 
 struct DigArgs {

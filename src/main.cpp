@@ -38,6 +38,13 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   verify_cmd->add_flag("--json", verify.json, "print report.json on stdout instead of the plan lines");
   verify_cmd->add_flag("--dig-carry", verify.dig_carry, "the terrain dug by one plan is where the next one starts");
+  CLI::Option* continuous = verify_cmd->add_flag("--continuous", verify.continuous,
+                       "also certify the motion between states (joints linear in driving parameters)");
+  verify_cmd
+      ->add_option("--continuous-tolerance", verify.continuous_tolerance,
+                   "clearance witness tolerance between states, in the scene's length unit (default 1e-5 m)")
+      ->check(CLI::PositiveNumber)
+      ->needs(continuous);
 
   plancheck::DigArgs dig;
   std::string dig_plan;

@@ -48,7 +48,9 @@ std::string pair_text(const Checker& c, int a, int b) {
 std::string violation_text(const Checker& checker, const Scene& scene, const PlanResult& r) {
   if (!r.first_violation) return "none";
   const Violation& v = *r.first_violation;
-  std::string s = std::string(verdict_name(v.kind)) + " at state " + std::to_string(v.state);
+  std::string s = std::string(verdict_name(v.kind)) +
+                  (v.between ? " between states " + std::to_string(v.state) + " and " + std::to_string(v.state + 1)
+                             : " at state " + std::to_string(v.state));
   if (v.part_a >= 0) s += " (" + pair_text(checker, v.part_a, v.part_b) + ")";
   if (v.action >= 0) s += " (" + scene.actions[static_cast<std::size_t>(v.action)].name + ")";
   if (v.kind == Verdict::kTarget && r.target_error)
@@ -107,6 +109,11 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
     if (probes)
       for (const ProbeConfig& pc : scene.probes) csv.append(",probe:").append(pc.name).append(",probe:").append(pc.name).append(":hit");
     if (dig) csv += ",scoop_depth,scoop_volume";
+    // --continuous: the segment from this state to the next (empty on the last row).
+    const bool segments = !r.segments.empty();
+    if (segments)
+      csv += ",segment_min_distance,segment_min_sampled,segment_collision,segment_clearance,segment_part_a,"
+             "segment_part_b,segment_t,segment_steps";
     csv += "\n";
     const double unit3 = unit * unit * unit;
     for (std::size_t s = 0; s < r.states.size(); ++s) {
@@ -127,6 +134,18 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
           if (pr.hit >= 0) csv.append(r.probe_targets.at(static_cast<std::size_t>(pr.hit)));
         }
       if (dig) csv.append(",").append(num(r.dig_steps.at(s).depth / unit)).append(",").append(num(r.dig_steps.at(s).volume / unit3));
+      if (segments) {
+        const SegmentResult& g = r.segments.at(s);
+        if (g.checked) {
+          csv.append(",").append(num(g.lower_bound / unit)).append(",").append(num(g.min_sampled / unit));
+          csv.append(g.collision ? ",1" : ",0").append(g.clearance ? ",1" : ",0").append(",");
+          if (g.part_a >= 0) csv.append(checker.part_name(g.part_a)).append(",").append(checker.part_name(g.part_b));
+          else csv.append(",");
+          csv.append(",").append(g.witness_t >= 0.0 ? num(g.witness_t) : "").append(",").append(std::to_string(g.steps));
+        } else {
+          csv += ",,,,,,,,";
+        }
+      }
       csv += "\n";
     }
     write_atomically(dir / (plan.name + ".csv"), csv);
@@ -209,6 +228,11 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
                                {"reason", "beyond reach of the moving parts"}}},
                  {"plans", plans},
                  {"seconds", {{"load", info.load_seconds}, {"build", info.build_seconds}, {"check", info.check_seconds}}}};
+  if (info.continuous_tolerance > 0.0) {
+    report["continuous"] = {{"tolerance", info.continuous_tolerance / unit},
+                            {"contact_tolerance", info.contact_tolerance / unit}};
+    report["seconds"]["continuous"] = info.continuous_seconds;
+  }
   write_atomically(dir / "report.json", report.dump(2) + "\n");
 }
 

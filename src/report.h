@@ -18,6 +18,9 @@ struct RunInfo {
   double load_seconds = 0.0;
   double build_seconds = 0.0;
   double check_seconds = 0.0;
+  double continuous_tolerance = 0.0;  // m; 0: --continuous was not asked for
+  double contact_tolerance = 0.0;     // m
+  double continuous_seconds = 0.0;    // part of check_seconds spent between states
 };
 
 // One line per plan, then a summary line.

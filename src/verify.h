@@ -62,6 +62,24 @@ struct StateResult {
   double distance_tolerance = kDistanceTolerance;
 };
 
+// What the motion from state s to state s + 1 shows (verify --continuous,
+// src/continuous.h). The segment is closed: it includes both states.
+struct SegmentResult {
+  bool checked = false;    // false on a plan's last state (no segment) or without --continuous
+  bool collision = false;  // parts touch somewhere on it (or come within ContinuousOptions::contact_tolerance)
+  bool clearance = false;  // some configuration on it is closer than margin + ContinuousOptions::tolerance
+  // Certified: no configuration on the segment is closer than this (m); 0 on collision.
+  double lower_bound = std::numeric_limits<double>::infinity();
+  // The smallest exact distance at the configurations checked (m), an upper
+  // bound on the segment's minimum; its pair below.
+  double min_sampled = std::numeric_limits<double>::infinity();
+  int part_a = -1;         // pair of the first violation witness, else at min_sampled
+  int part_b = -1;
+  double witness_t = -1.0;  // first violation witness as a fraction of the segment; -1: none
+  std::size_t steps = 0;    // exact configuration checks run on the segment (its states not counted)
+  bool unresolved = false;  // the step budget ran out: reported as a violation without a witness
+};
+
 enum class Verdict { kSafe, kCollision, kClearance, kLimits, kTarget };
 const char* verdict_name(Verdict v);
 
@@ -100,6 +118,8 @@ struct PlanResult {
   // Probes (scenes with probes): probes[s][p]; a reading's hit indexes probe_targets.
   std::vector<std::vector<ProbeReading>> probes;
   std::vector<std::string> probe_targets;
+  // --continuous: segments[s] is the motion from state s to s + 1 (empty otherwise).
+  std::vector<SegmentResult> segments;
 };
 
 // What one state's check computes (the bench also times the parts alone).

@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+// MotionBound against the paths themselves: on random chains of rotations,
+// translations and scales, no vertex's path (as a fine polyline, which is
+// never longer than the path) is longer than the bound, on whole segments and
+// on sub-intervals; on a single rotation the bound is the exact arc length.
+#include "src/kinematics.h"
+#include "src/motion_bound.h"
+#include "support/fixtures.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace plancheck {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Vec3 random_unit(std::mt19937_64& rng) {
+  std::normal_distribution<double> n;
+  Vec3 v(n(rng), n(rng), n(rng));
+  return v.normalized();
+}
+
+Scene random_chain_scene(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  std::uniform_int_distribution<int> kind(0, 3), len(1, 5);
+  Scene scene;
+  Part part;
+  part.name = "P";
+  const Vec3 lo(u(rng), u(rng), u(rng));
+  part.mesh = testing::box_mesh(lo, lo + Vec3(0.1 + std::abs(u(rng)), 0.1 + std::abs(u(rng)), 0.1));
+  int param = 0;
+  const int n = len(rng);
+  for (int i = 0; i < n; ++i) {
+    Action a;
+    a.name = "A" + std::to_string(i);
+    a.first_parameter = param;
+    switch (kind(rng)) {
+      case 0: case 1:
+        a.type = ActionType::kRotate;
+        a.pivot = Vec3(u(rng), u(rng), u(rng));
+        a.axis = random_unit(rng);
+        break;
+      case 2:
+        a.type = rng() % 2 ? ActionType::kTranslateAxis : ActionType::kTranslateFree;
+        a.axis = random_unit(rng);
+        if (a.type == ActionType::kTranslateFree) a.parameter_count = 3;
+        break;
+      case 3:
+        a.type = ActionType::kScale;
+        a.fixed_point = Vec3(u(rng), u(rng), u(rng));
+        a.parameter_count = 3;
+        break;
+    }
+    param += a.parameter_count;
+    part.chain.push_back(static_cast<int>(scene.actions.size()));
+    scene.actions.push_back(a);
+  }
+  part.chain_id = 0;
+  scene.chains.push_back(part.chain);
+  scene.parts.push_back(part);
+  scene.reference_parameters.assign(static_cast<std::size_t>(param), 0.0);
+  return scene;
+}
+
+std::vector<double> random_params(const Scene& scene, std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> angle(-kPi, kPi), shift(-1.0, 1.0), factor(0.5, 2.0);
+  std::vector<double> q(scene.reference_parameters.size());
+  for (const Action& a : scene.actions)
+    for (int k = 0; k < a.parameter_count; ++k) {
+      double& v = q[static_cast<std::size_t>(a.first_parameter + k)];
+      v = a.type == ActionType::kRotate ? angle(rng) : a.type == ActionType::kScale ? factor(rng) : shift(rng);
+    }
+  return q;
+}
+
+std::vector<double> lerp(const std::vector<double>& a, const std::vector<double>& b, double t) {
+  std::vector<double> q(a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) q[i] = a[i] + t * (b[i] - a[i]);
+  return q;
+}
+
+TEST(MotionBound, NoVertexPathIsLongerThanTheBound) {
+  std::mt19937_64 rng(20250605);
+  constexpr int kSteps = 400;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Scene scene = random_chain_scene(rng);
+    const MotionBound bound(scene);
+    const auto qa = random_params(scene, rng);
+    const auto qb = random_params(scene, rng);
+    // Whole segment and a random sub-interval of it.
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    double t0 = u(rng), t1 = u(rng);
+    if (t0 > t1) std::swap(t0, t1);
+    for (auto [ta, tb] : {std::pair{0.0, 1.0}, std::pair{t0, t1}}) {
+      const auto a = lerp(qa, qb, ta), b = lerp(qa, qb, tb);
+      const double m = bound.part_bound(0, a, b);
+      const Mesh& mesh = scene.parts[0].mesh;
+      std::vector<double> length(mesh.vertices.size(), 0.0);
+      Affine prev = part_transform(scene, 0, a);
+      for (int s = 1; s <= kSteps; ++s) {
+        const Affine cur = part_transform(scene, 0, lerp(a, b, static_cast<double>(s) / kSteps));
+        for (std::size_t v = 0; v < mesh.vertices.size(); ++v)
+          length[v] += (cur * mesh.vertices[v] - prev * mesh.vertices[v]).norm();
+        prev = cur;
+      }
+      for (double l : length) ASSERT_LE(l, m) << "trial " << trial << " [" << ta << ", " << tb << "]";
+    }
+  }
+}
+
+TEST(MotionBound, SingleRotationBoundIsTheLongestArc) {
+  Scene scene;
+  Action a;
+  a.type = ActionType::kRotate;
+  a.pivot = Vec3(1, 0, 0);
+  a.axis = Vec3::UnitZ();
+  scene.actions.push_back(a);
+  Part p;
+  p.mesh = testing::box_mesh({2, -0.5, 0}, {4, 0.5, 7});  // farthest from the axis: (4, +-0.5, *)
+  p.chain = {0};
+  p.chain_id = 0;
+  scene.parts.push_back(p);
+  scene.chains.push_back(p.chain);
+  const MotionBound bound(scene);
+  const double r = std::sqrt(3.0 * 3.0 + 0.25);
+  const std::vector<double> qa{-2.0}, qb{1.0};
+  EXPECT_NEAR(bound.part_bound(0, qa, qb), 3.0 * r, 1e-8);
+  EXPECT_EQ(bound.part_bound(0, qa, qa), 1e-12);  // only the rounding pad
+  EXPECT_EQ(bound.part_bound(5, qa, qb), 0.0);    // past the parts: the static terrain
+}
+
+}  // namespace
+}  // namespace plancheck

@@ -1,0 +1,284 @@
+// SPDX-License-Identifier: MIT
+// verify --continuous on synthetic scenes: a bar slewing about a vertical
+// axis (with a telescoping boom and a scale on its chain) past posts. Paths
+// that graze a post between two safe states, fast large-angle swings, and a
+// dense-sampling oracle (2,000 exact sub-steps per segment).
+#include "src/continuous.h"
+#include "src/kinematics.h"
+#include "src/plan.h"
+#include "src/scene_loader.h"
+#include "src/verify.h"
+#include "support/fixtures.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <random>
+#include <sstream>
+
+namespace plancheck {
+namespace {
+
+using testing::TempDir;
+using testing::write_text;
+
+constexpr double kMargin = 0.05;
+const std::string kPlancheck = std::string(PLANCHECK_BINARY_DIR) + "/plancheck";
+
+// Bar [0.2, 2] x [-0.05, 0.05] x [0.95, 1.05] on the chain Slew (rotate about
+// +z through the origin, outermost), Boom (translate along +x), Grow (scale
+// about (0, 0, 1), innermost). Posts are static boxes.
+void write_scene(const TempDir& dir, const std::vector<std::pair<Vec3, Vec3>>& posts) {
+  std::vector<std::pair<std::string, Mesh>> parts{{"Bar", testing::box_mesh({0.2, -0.05, 0.95}, {2, 0.05, 1.05})}};
+  for (std::size_t i = 0; i < posts.size(); ++i)
+    parts.emplace_back("Post" + std::to_string(i), testing::box_mesh(posts[i].first, posts[i].second));
+  testing::write_obj(dir / "model.obj", parts);
+  write_text(dir / "scene.json", R"({
+  "format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m", "angle_unit": "deg",
+  "actions": [
+    {"name": "Slew", "node": "Bar", "type": "rotate", "pivot": [0, 0, 0], "axis": [0, 0, 1]},
+    {"name": "Boom", "node": "Bar", "type": "translate", "axis": [1, 0, 0]},
+    {"name": "Grow", "node": "Bar", "type": "scale", "fixed_point": [0, 0, 1]}],
+  "safety_margin": 0.05
+})");
+}
+
+// Plan rows: Slew (deg), Boom (m), Grow.x (the other factors stay 1).
+std::string plan_text(const std::vector<std::array<double, 3>>& rows) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "Slew,Boom,Grow.x\n";
+  for (const auto& r : rows) s << r[0] << "," << r[1] << "," << r[2] << "\n";
+  return s.str();
+}
+
+struct Run {
+  Scene scene;
+  std::vector<Plan> plans;
+  std::unique_ptr<Checker> checker;
+  std::vector<PlanResult> results;
+};
+
+std::unique_ptr<Run> run(const TempDir& dir, const std::vector<std::vector<std::array<double, 3>>>& plans,
+                         int threads = 2, ContinuousOptions options = {}) {
+  auto r = std::make_unique<Run>();
+  r->scene = load_scene(dir / "scene.json");
+  for (std::size_t i = 0; i < plans.size(); ++i) {
+    const auto file = dir / ("p" + std::to_string(i) + ".csv");
+    write_text(file, plan_text(plans[i]));
+    r->plans.push_back(load_plan(r->scene, file));
+  }
+  r->checker = std::make_unique<Checker>(r->scene, threads);
+  r->results = verify_plans(*r->checker, r->scene, r->plans, VerifyOptions{threads, false, false});
+  options.threads = threads;
+  verify_segments(*r->checker, r->scene, r->plans, r->results, options);
+  return r;
+}
+
+// Dense sampling of one segment: n exact sub-steps. Reports whether any
+// sample collides, the least sampled distance, and a rigorous lower bound on
+// the true minimum from the samples and the motion bound between them.
+struct Dense {
+  bool collision = false;
+  double min_sampled = std::numeric_limits<double>::infinity();
+  double lower = std::numeric_limits<double>::infinity();
+};
+
+Dense dense(const Checker& checker, const SegmentChecker& seg, const std::vector<double>& qa,
+            const std::vector<double>& qb, int n) {
+  Dense out;
+  std::vector<double> prev_q;
+  double prev_d = 0.0;
+  for (int j = 0; j <= n; ++j) {
+    const double t = static_cast<double>(j) / n;
+    std::vector<double> q(qa.size());
+    for (std::size_t i = 0; i < q.size(); ++i) q[i] = j == n ? qb[i] : qa[i] + t * (qb[i] - qa[i]);
+    StateResult r;
+    checker.check_state(q, r);
+    const double d = r.collision ? 0.0 : r.min_distance;
+    out.collision |= r.collision;
+    out.min_sampled = std::min(out.min_sampled, d);
+    if (j > 0) out.lower = std::min(out.lower, std::min({prev_d, d, 0.5 * (prev_d + d - seg.pair_bound(prev_q, q))}));
+    prev_q = q;
+    prev_d = d;
+  }
+  return out;
+}
+
+// Every segment of every plan against dense sampling: nothing the samples
+// find is missed; nothing is flagged that the samples prove to be farther
+// than the tolerance from the margin; the certified bound is a lower bound.
+void expect_agrees_with_dense(const Run& r, int n, int* flagged = nullptr) {
+  const SegmentChecker seg(*r.checker, r.scene, ContinuousOptions{});
+  const double tol = ContinuousOptions{}.tolerance;
+  for (std::size_t p = 0; p < r.plans.size(); ++p)
+    for (std::size_t s = 0; s + 1 < r.plans[p].states.size(); ++s) {
+      SCOPED_TRACE("plan " + std::to_string(p) + " segment " + std::to_string(s));
+      const SegmentResult& g = r.results[p].segments[s];
+      ASSERT_TRUE(g.checked);
+      const Dense d = dense(*r.checker, seg, r.plans[p].states[s], r.plans[p].states[s + 1], n);
+      if (d.collision) {
+        EXPECT_TRUE(g.collision);
+      }
+      if (d.min_sampled < kMargin) {
+        EXPECT_TRUE(g.clearance || g.collision);
+      }
+      if (d.lower >= kMargin + tol) {
+        EXPECT_FALSE(g.clearance || g.collision) << d.lower;
+      }
+      if (!d.collision && d.lower > ContinuousOptions{}.contact_tolerance) {
+        EXPECT_FALSE(g.collision);
+      }
+      EXPECT_LE(g.lower_bound, d.min_sampled);
+      EXPECT_GE(g.min_sampled, d.lower - 1e-12);
+      if (flagged && (g.clearance || g.collision)) ++*flagged;
+    }
+}
+
+TEST(Continuous, SwingThroughAPostBetweenTwoSafeStatesIsACollision) {
+  TempDir dir("continuous");
+  write_scene(dir, {{{-0.1, 1.2, 0}, {0.1, 1.4, 2}}});  // a post at azimuth 90 degrees
+  const auto r = run(dir, {{{0, 0, 1}, {180, 0, 1}}});
+  const PlanResult& p = r->results[0];
+  ASSERT_FALSE(p.states[0].collision);
+  ASSERT_FALSE(p.states[1].collision);
+  ASSERT_GT(p.states[0].min_distance, 1.0);  // both states far from the post
+  ASSERT_GT(p.states[1].min_distance, 1.0);
+  ASSERT_TRUE(p.segments[0].collision);
+  EXPECT_EQ(p.verdict, Verdict::kCollision);
+  ASSERT_TRUE(p.first_violation.has_value());
+  EXPECT_TRUE(p.first_violation->between);
+  EXPECT_EQ(p.first_violation->state, 0u);
+  EXPECT_EQ(r->checker->part_name(p.first_violation->part_b), "Post0");
+  EXPECT_EQ(p.segments[0].lower_bound, 0.0);
+  EXPECT_FALSE(p.segments[1].checked);  // the last state has no segment
+  expect_agrees_with_dense(*r, 2000);
+}
+
+TEST(Continuous, FastLargeAngleSwingsGoTheWayTheParametersGo) {
+  TempDir dir("continuous");
+  // Posts at azimuth 0 and 180 degrees, just beyond the bar's reach at rest
+  // for the second; a -170 -> 170 swing goes through 0 (linear in the
+  // parameter), never past 180.
+  write_scene(dir, {{{1.2, -0.1, 0}, {1.4, 0.1, 2}}, {{-2.5, -0.1, 0}, {-2.3, 0.1, 2}}});
+  const auto r = run(dir, {{{-170, -0.5, 1}, {170, -0.5, 1}},  // through 0: hits post 0 (reach 1.5)
+                           {{-170, 0, 0.5}, {170, 0, 0.5}},     // shrunk to reach 1.0: clears post 0
+                           {{170, 0.45, 1}, {-170, 0.45, 1}},   // reach 2.45: hits post 0 at 0
+                           {{-179, 0.2, 1}, {179, 0.2, 1}}});   // 358 degrees, not 2, past post 0
+  for (const PlanResult& p : r->results) {
+    ASSERT_FALSE(p.states[0].collision);
+    ASSERT_GT(p.states[1].min_distance, kMargin);
+  }
+  EXPECT_TRUE(r->results[0].segments[0].collision);
+  EXPECT_FALSE(r->results[1].segments[0].collision || r->results[1].segments[0].clearance);
+  EXPECT_TRUE(r->results[2].segments[0].collision);
+  EXPECT_TRUE(r->results[3].segments[0].collision);
+  expect_agrees_with_dense(*r, 2000);
+}
+
+// Post face at y = face, the bar's far corners sweep radius rho: on a slew
+// through 90 degrees the minimum distance is face - rho exactly (corner to
+// face), with the OBJ's single-precision coordinates.
+TEST(Continuous, GrazingWithinAndBeyondTheToleranceOfTheMargin) {
+  const double rho = std::hypot(2.0, static_cast<double>(0.05f));
+  const double tol = ContinuousOptions{}.tolerance;
+  struct Case {
+    double gap;
+    bool flagged;
+  };
+  for (const Case c : {Case{kMargin - 2e-5, true}, Case{kMargin + 3 * tol, false}, Case{kMargin - 0.02, true},
+                       Case{0.5 * kMargin, true}, Case{-1e-3, true}}) {
+    SCOPED_TRACE("gap " + std::to_string(c.gap));
+    TempDir dir("continuous");
+    const double face = static_cast<double>(static_cast<float>(rho + c.gap));
+    write_scene(dir, {{{-0.1, face, 0}, {0.1, face + 0.2, 2}}});
+    const auto r = run(dir, {{{60, 0, 1}, {120, 0, 1}}, {{0, 0, 1}, {180, 0, 1}}});
+    for (const PlanResult& p : r->results) {
+      ASSERT_GT(p.states[0].min_distance, kMargin + 0.01);
+      ASSERT_GT(p.states[1].min_distance, kMargin + 0.01);
+      const SegmentResult& g = p.segments[0];
+      EXPECT_EQ(g.clearance || g.collision, c.flagged);
+      EXPECT_EQ(g.collision, face - rho < 0.0);
+      EXPECT_LE(g.lower_bound, std::max(0.0, face - rho) + 1e-9);
+      if (c.flagged) {
+        EXPECT_TRUE(p.first_violation && p.first_violation->between);
+        EXPECT_LT(g.min_sampled, kMargin + tol);  // the witness
+      } else {
+        EXPECT_GE(g.lower_bound, kMargin);
+        EXPECT_EQ(p.verdict, Verdict::kSafe);
+      }
+    }
+    expect_agrees_with_dense(*r, 2000);
+  }
+}
+
+TEST(Continuous, RandomPlansAgreeWithDenseSampling) {
+  TempDir dir("continuous");
+  write_scene(dir, {{{-0.1, 1.2, 0}, {0.1, 1.4, 2}},
+                    {{1.9, -0.3, 0.5}, {2.1, 0.3, 0.92}},     // under the bar's path at reach 2
+                    {{-2.6, -0.1, 0.98}, {-2.4, 0.1, 1.2}}});  // hit only when boomed out
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> slew(-180, 180), boom(-0.6, 0.7), grow(0.5, 1.4);
+  std::vector<std::vector<std::array<double, 3>>> plans(6);
+  for (auto& p : plans)
+    for (int s = 0; s < 12; ++s) p.push_back({slew(rng), boom(rng), grow(rng)});
+  const auto r = run(dir, plans);
+  int flagged = 0;
+  expect_agrees_with_dense(*r, 2000, &flagged);
+  EXPECT_GT(flagged, 5);  // the oracle saw real work on both sides
+  EXPECT_LT(flagged, 66);
+}
+
+TEST(Continuous, ResultsDoNotDependOnTheThreadCount) {
+  TempDir dir("continuous");
+  write_scene(dir, {{{-0.1, 1.2, 0}, {0.1, 1.4, 2}}});
+  std::vector<std::vector<std::array<double, 3>>> plans{{{0, 0, 1}, {90, 0, 1}, {100, 0.3, 1.2}, {-30, 0, 1}}};
+  const auto a = run(dir, plans, 1);
+  const auto b = run(dir, plans, 2);
+  for (std::size_t s = 0; s < a->results[0].segments.size(); ++s) {
+    const SegmentResult& x = a->results[0].segments[s];
+    const SegmentResult& y = b->results[0].segments[s];
+    EXPECT_EQ(x.collision, y.collision);
+    EXPECT_EQ(x.clearance, y.clearance);
+    EXPECT_EQ(x.lower_bound, y.lower_bound);
+    EXPECT_EQ(x.min_sampled, y.min_sampled);
+    EXPECT_EQ(x.steps, y.steps);
+    EXPECT_EQ(x.witness_t, y.witness_t);
+  }
+}
+
+TEST(Continuous, CommandLineReportsBetweenAndSegmentColumns) {
+  TempDir dir("continuous");
+  write_scene(dir, {{{-0.1, 1.2, 0}, {0.1, 1.4, 2}}});
+  write_text(dir / "swing.csv", plan_text({{0, 0, 1}, {10, 0, 1}, {180, 0, 1}}));
+  const std::string base = kPlancheck + " verify " + (dir / "scene.json").string() + " " +
+                           (dir / "swing.csv").string() + " --out " + (dir / "out").string();
+  // Without --continuous the states alone are safe.
+  EXPECT_EQ(testing::run_command(base + " >/dev/null 2>&1"), 0);
+  EXPECT_EQ(testing::run_command(base + " --continuous >" + (dir / "stdout").string() + " 2>/dev/null"), 1);
+  const auto report = nlohmann::json::parse(testing::read_text(dir / "out" / "report.json"));
+  const auto& first = report["plans"][0]["first_violation"];
+  EXPECT_EQ(first["state"], 1);
+  EXPECT_EQ(first["kind"], "collision");
+  EXPECT_EQ(first["between"], true);
+  EXPECT_NE(testing::read_text(dir / "stdout").find("collision between states 1 and 2"), std::string::npos);
+  const std::string csv = testing::read_text(dir / "out" / "swing.csv");
+  EXPECT_NE(csv.find(",segment_min_distance,segment_min_sampled,segment_collision,segment_clearance,"), std::string::npos);
+  std::istringstream lines(csv);
+  std::string header, row0, row1, row2;
+  std::getline(lines, header);
+  std::getline(lines, row0);
+  std::getline(lines, row1);
+  std::getline(lines, row2);
+  EXPECT_NE(row1.find(",1,1,Bar,Post0,"), std::string::npos) << row1;
+  EXPECT_EQ(row2.substr(row2.size() - 8), ",,,,,,,,");  // the last state has no segment
+  // Bad tolerance: one message, exit 2; the option needs --continuous.
+  EXPECT_EQ(testing::run_command(base + " --continuous --continuous-tolerance 1e-12 >/dev/null 2>&1"), 2);
+  EXPECT_EQ(testing::run_command(base + " --continuous --continuous-tolerance -1 >/dev/null 2>&1"), 2);
+  EXPECT_EQ(testing::run_command(base + " --continuous-tolerance 1e-4 >/dev/null 2>&1"), 2);
+  EXPECT_EQ(testing::run_command(base + " --continuous --continuous-tolerance 1e-4 >/dev/null 2>&1"), 1);
+}
+
+}  // namespace
+}  // namespace plancheck
