@@ -5,6 +5,7 @@
 #include "src/scene.h"
 
 #include <filesystem>
+#include <istream>
 #include <optional>
 #include <vector>
 
@@ -32,6 +33,10 @@ struct Dem {
 // ncols values, top row first). Heights and cell size are multiplied by
 // length_scale. Throws InputError naming the file and line.
 Dem load_dem(const std::filesystem::path& file, double length_scale);
+
+// The same from a seekable stream (an open file or a string); `file` names
+// it in messages.
+Dem read_dem(std::istream& in, const std::filesystem::path& file, double length_scale);
 
 // The grid as triangles in the reference frame: sample (c, r) sits at
 // origin + (x0 + c*cellsize, y0 + r*cellsize, z). Each cell between four valid
