@@ -218,6 +218,24 @@ void check_off_counts(const std::filesystem::path& file) {
                    " faces, more than the file can hold");
 }
 
+// assimp 5.2's PLY reader never returns on a header that ends before its
+// "end_header" line (found by fuzz_model: a 121-byte truncated header hung
+// `plancheck scene` forever). The header is text ahead of any binary body,
+// so that line is looked for first.
+void check_ply_header(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".ply") return;
+  std::ifstream in(file, std::ios::binary);
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    const std::size_t last = line.find_last_not_of(" \t\r");
+    if (first != std::string::npos && line.compare(first, last + 1 - first, "end_header") == 0) return;
+  }
+  fail(file, "cannot read model: the PLY header has no end_header line");
+}
+
 bool is_generated_child_name(const std::string& child, const std::string& parent) {
   if (child.empty()) return true;
   if (parent.empty() || child.size() <= parent.size() + 1) return false;
@@ -515,6 +533,7 @@ void load_model(const std::filesystem::path& model, double length_scale, Scene& 
     if (probe.peek() == std::ifstream::traits_type::eof()) fail(model, "cannot read model: the file is empty");
   }
   check_off_counts(model);
+  check_ply_header(model);
   Assimp::Importer importer;
   // The reference frame is the file's own coordinates: no up-axis conversion.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
