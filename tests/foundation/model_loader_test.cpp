@@ -626,6 +626,34 @@ TEST(ModelLoaderErrors, PlyHeaderWithoutEndIsRefusedNotHung) {
   EXPECT_EQ(total_triangles(ok), 1u);
 }
 
+// Found by fuzz_model: a 3ds position track (0xB020) claiming 1644167169
+// keys in 38 bytes made assimp reserve 39 GB. Built here from scratch: main
+// chunk, keyframer, one object node, one track.
+TEST(ModelLoaderErrors, ThreeDsTrackClaimingMoreKeysThanItHoldsIsRefused) {
+  auto chunk = [](unsigned id, const std::string& body) {
+    std::string c;
+    const std::uint32_t len = static_cast<std::uint32_t>(body.size() + 6);
+    c += static_cast<char>(id & 0xFF);
+    c += static_cast<char>(id >> 8);
+    for (int i = 0; i < 4; ++i) c += static_cast<char>((len >> (8 * i)) & 0xFF);
+    return c + body;
+  };
+  std::string track(10, '\0');
+  track += std::string("\x01\x00\x00\x62", 4);  // 0x62000001 keys
+  track += std::string(18, '\0');                   // room for one key
+  testing::TempDir dir;
+  const auto file = dir.write("track.3ds", chunk(0x4D4D, chunk(0xB000, chunk(0xB002, chunk(0xB020, track)))));
+  Scene s;
+  testing::expect_input_error([&] { load_model(file, 1.0, s); },
+                              {"track.3ds", "keyframer track", "claims 1644167169 keys"});
+  // Every 3ds test model still loads (their tracks fit their chunks).
+  for (const char* name : {"test1.3ds", "CameraRollAnim.3ds", "RotatingCube.3DS"}) {
+    Scene ok;
+    load_model(kAssimpModels / "3DS" / name, 1.0, ok);
+    EXPECT_FALSE(ok.parts.empty()) << name;
+  }
+}
+
 TEST(ModelLoaderErrors, OffHeaderBeyondTheFileIsRefusedFast) {
   Scene s;
   testing::expect_input_error([&] { load_model(kAssimpModels / "invalid/OutOfMemory.off", 1.0, s); },
