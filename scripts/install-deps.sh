@@ -11,8 +11,8 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libcgal-dev
   assimp-testmodels dart-doc
+  clang libclang-rt-14-dev
 )
-if [ "${PLANCHECK_FUZZ:-0}" = 1 ]; then packages+=(clang libclang-rt-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -218,6 +218,57 @@ void check_off_counts(const std::filesystem::path& file) {
                    " faces, more than the file can hold");
 }
 
+// assimp 5.2's PLY reader never returns on a header that ends before its
+// "end_header" line (found by fuzz_model: a 121-byte truncated header hung
+// `plancheck scene` forever). The header is text ahead of any binary body,
+// so that line is looked for first.
+void check_ply_header(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext != ".ply") return;
+  std::ifstream in(file, std::ios::binary);
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t first = line.find_first_not_of(" \t\r");
+    const std::size_t last = line.find_last_not_of(" \t\r");
+    if (first != std::string::npos && line.compare(first, last + 1 - first, "end_header") == 0) return;
+  }
+  fail(file, "cannot read model: the PLY header has no end_header line");
+}
+
+// assimp 5.2's 3ds reader reserves a keyframer track's keys from the count
+// in the file before reading them (found by fuzz_model: one 38-byte position
+// track claiming 1644167169 keys made it ask for 39 GB). A key takes at least
+// 6 bytes (frame number and flags), so a count its chunk cannot hold is
+// refused up front. Tracks are chunks 0xB020..0xB029 in the keyframer's
+// node chunks 0xB001..0xB007 under 0xB000.
+void check_3ds_tracks(const std::vector<unsigned char>& b, std::size_t at, std::size_t end,
+                      const std::filesystem::path& file, int depth = 0) {
+  auto u16 = [&](std::size_t i) { return static_cast<unsigned>(b[i] | (b[i + 1] << 8)); };
+  auto u32 = [&](std::size_t i) { return u16(i) | (static_cast<std::size_t>(u16(i + 2)) << 16); };
+  while (at + 6 <= end && depth < 8) {
+    const unsigned id = u16(at);
+    const std::size_t len = u32(at + 2);
+    if (len < 6 || len > end - at) return;  // damage: assimp judges it
+    if (id == 0x4D4D || id == 0xB000 || (id >= 0xB001 && id <= 0xB007)) {
+      check_3ds_tracks(b, at + 6, at + len, file, depth + 1);
+    } else if (id >= 0xB020 && id <= 0xB029 && len >= 20) {
+      const std::size_t keys = u32(at + 16);
+      if (keys > (len - 20) / 6)
+        fail(file, "cannot read model: a 3ds keyframer track at byte " + std::to_string(at) + " claims " +
+                       std::to_string(keys) + " keys in " + std::to_string(len) + " bytes");
+    }
+    at += len;
+  }
+}
+
+void check_3ds(const std::filesystem::path& file) {
+  if (!is_3ds(file)) return;
+  std::ifstream in(file, std::ios::binary);
+  const std::vector<unsigned char> b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  check_3ds_tracks(b, 0, b.size(), file);
+}
+
 bool is_generated_child_name(const std::string& child, const std::string& parent) {
   if (child.empty()) return true;
   if (parent.empty() || child.size() <= parent.size() + 1) return false;
@@ -515,6 +566,8 @@ void load_model(const std::filesystem::path& model, double length_scale, Scene& 
     if (probe.peek() == std::ifstream::traits_type::eof()) fail(model, "cannot read model: the file is empty");
   }
   check_off_counts(model);
+  check_ply_header(model);
+  check_3ds(model);
   Assimp::Importer importer;
   // The reference frame is the file's own coordinates: no up-axis conversion.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);

@@ -82,8 +82,12 @@ double parameter_to_si(const Scene& scene, int parameter, double value) {
 Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
   std::ifstream in(csv, std::ios::binary);
   if (!in) fail(csv, "cannot open plan file");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_plan(scene, text, csv);
+}
+
+Plan parse_plan(const Scene& scene, std::string_view text, const std::filesystem::path& csv) {
+  if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.remove_prefix(3);
 
   Plan plan;
   plan.file = csv;
@@ -99,7 +103,7 @@ Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
   std::vector<const Action*> column_turns;  // rotations in degrees: whole turns removed exactly
   long header_line = 0;
 
-  std::string_view rest(text);
+  std::string_view rest = text;
   long line_no = 0;
   while (!rest.empty()) {
     std::size_t nl = rest.find('\n');

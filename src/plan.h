@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace plancheck {
@@ -32,5 +33,9 @@ double parameter_to_si(const Scene& scene, int parameter, double value);
 
 // Throws InputError naming the file, line and column at fault.
 Plan load_plan(const Scene& scene, const std::filesystem::path& csv);
+
+// The same from the file's text already in memory; `csv` names it in
+// messages and gives the default plan name (the fuzz targets use this).
+Plan parse_plan(const Scene& scene, std::string_view text, const std::filesystem::path& csv);
 
 }  // namespace plancheck

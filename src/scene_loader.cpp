@@ -97,10 +97,7 @@ void line_column(const std::string& text, std::size_t byte, long& line, long& co
   }
 }
 
-Json parse_json(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, "cannot open scene file");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+Json parse_json(const std::string& text, const std::filesystem::path& file) {
   // Duplicate keys: nlohmann keeps the last one silently; a repeated key is as
   // likely a mistake as an unknown one.
   std::vector<std::set<std::string>> open_objects;
@@ -460,8 +457,15 @@ void read_probes(const Reader& r, const Json& list, Scene& scene) {
 }  // namespace
 
 Scene load_scene(const std::filesystem::path& scene_json) {
+  std::ifstream in(scene_json, std::ios::binary);
+  if (!in) fail(scene_json, "cannot open scene file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_scene(text, scene_json);
+}
+
+Scene parse_scene(const std::string& text, const std::filesystem::path& scene_json) {
   Reader r(scene_json);
-  const Json root = parse_json(scene_json);
+  const Json root = parse_json(text, scene_json);
   r.check_keys(root, "",
                {"format", "model", "length_unit", "angle_unit", "actions", "allowed_collisions", "safety_margin",
                 "terrain", "scoop", "probes"});

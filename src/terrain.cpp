@@ -34,7 +34,10 @@ bool parse_number(const std::string& token, double& out) {
 Dem load_dem(const std::filesystem::path& file, double length_scale) {
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file, "cannot open the DEM file");
+  return read_dem(in, file, length_scale);
+}
 
+Dem read_dem(std::istream& in, const std::filesystem::path& file, double length_scale) {
   // Header: "key value" lines until the first line that starts with a number.
   double ncols = -1, nrows = -1, xll = NAN, yll = NAN, cellsize = -1, nodata = NAN;
   bool x_center = false, y_center = false, has_nodata = false;
@@ -82,9 +85,12 @@ Dem load_dem(const std::filesystem::path& file, double length_scale) {
   dem.y0 = y_center ? 0.0 : 0.5 * dem.cellsize;
   dem.xll = xll * length_scale;
   dem.yll = yll * length_scale;
-  const std::size_t count = static_cast<std::size_t>(dem.ncols) * static_cast<std::size_t>(dem.nrows);
-  dem.z.assign(count, 0.0);
-  dem.valid.assign(count, 1);
+  // Samples are stored as they are read, in file order (top row first), and
+  // the rows turned round at the end: memory follows the data the file
+  // holds, not what its header claims (a header of 30000 x 30000 in a
+  // 100-byte file must be an error, not a 7 GB allocation).
+  std::vector<double> z;
+  std::vector<unsigned char> valid;
 
   // Data: nrows lines of ncols values, the first line is the top (largest y) row.
   in.clear();
@@ -103,10 +109,9 @@ Dem load_dem(const std::filesystem::path& file, double length_scale) {
       if (col >= dem.ncols) fail(file, "more than ncols = " + std::to_string(dem.ncols) + " values", line_no);
       double v;
       if (!parse_number(token, v)) fail(file, "'" + token + "' is not a finite number", line_no, col + 1);
-      const int row = dem.nrows - 1 - file_row;
-      const std::size_t i = static_cast<std::size_t>(row) * dem.ncols + col;
-      if (has_nodata && v == nodata) dem.valid[i] = 0;
-      else dem.z[i] = v * length_scale;
+      const bool hole = has_nodata && v == nodata;
+      z.push_back(hole ? 0.0 : v * length_scale);
+      valid.push_back(hole ? 0 : 1);
       ++col;
     }
     if (!any) continue;
@@ -116,6 +121,15 @@ Dem load_dem(const std::filesystem::path& file, double length_scale) {
   }
   if (file_row != dem.nrows)
     fail(file, "expected " + std::to_string(dem.nrows) + " data rows, found " + std::to_string(file_row));
+  const std::size_t count = static_cast<std::size_t>(dem.ncols) * static_cast<std::size_t>(dem.nrows);
+  dem.z.resize(count);
+  dem.valid.resize(count);
+  for (int file_r = 0; file_r < dem.nrows; ++file_r) {
+    const std::size_t from = static_cast<std::size_t>(file_r) * dem.ncols;
+    const std::size_t to = static_cast<std::size_t>(dem.nrows - 1 - file_r) * dem.ncols;
+    std::copy_n(z.begin() + static_cast<long>(from), dem.ncols, dem.z.begin() + static_cast<long>(to));
+    std::copy_n(valid.begin() + static_cast<long>(from), dem.ncols, dem.valid.begin() + static_cast<long>(to));
+  }
   return dem;
 }
 

@@ -5,6 +5,7 @@
 #include "src/scene.h"
 
 #include <filesystem>
+#include <istream>
 #include <optional>
 #include <vector>
 
@@ -32,6 +33,10 @@ struct Dem {
 // ncols values, top row first). Heights and cell size are multiplied by
 // length_scale. Throws InputError naming the file and line.
 Dem load_dem(const std::filesystem::path& file, double length_scale);
+
+// The same from a seekable stream (an open file or a string); `file` names
+// it in messages.
+Dem read_dem(std::istream& in, const std::filesystem::path& file, double length_scale);
 
 // Sample (c, r) in the reference frame: origin + (x0 + c*cellsize, y0 + r*cellsize, z).
 // dem_mesh and the Heightfield both place samples with this one function, so

@@ -9,7 +9,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <future>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
@@ -587,6 +590,68 @@ TEST(ModelLoaderErrors, MalformedIndicesNameAssimpsReason) {
   Scene s;
   testing::expect_input_error([&] { load_model(kAssimpModels / "invalid/malformed.obj", 1.0, s); },
                               {"malformed.obj", "Invalid face index"});
+}
+
+// Found by fuzz_model: assimp's PLY reader hung forever on a header cut off
+// before "end_header". A hang is reported as a failure after 60 s.
+TEST(ModelLoaderErrors, PlyHeaderWithoutEndIsRefusedNotHung) {
+  testing::TempDir dir;
+  const std::string header = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                             "property float z\n";
+  const auto cut = dir.write("cut.ply", header);
+  const auto cut_word = dir.write("cut_word.ply", header + "end_heade");
+  for (const auto& file : {cut, cut_word}) {
+    auto result = std::async(std::launch::async, [file] {
+      Scene s;
+      try {
+        load_model(file, 1.0, s);
+      } catch (const InputError& e) {
+        return std::string(e.what());
+      }
+      return std::string("loaded");
+    });
+    if (result.wait_for(std::chrono::seconds(60)) != std::future_status::ready) {
+      ADD_FAILURE() << file << ": load_model still running after 60 s";
+      std::_Exit(1);  // the hung thread cannot be stopped
+    }
+    EXPECT_NE(result.get().find("no end_header line"), std::string::npos) << file;
+  }
+  // The guard must not refuse honest PLY files (CRLF and trailing spaces too).
+  Scene ok;
+  load_model(dir.write("crlf.ply", "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\n"
+                                   "property float y\r\nproperty float z\r\nelement face 1\r\n"
+                                   "property list uchar int vertex_indices\r\nend_header  \r\n"
+                                   "0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n"),
+             1.0, ok);
+  EXPECT_EQ(total_triangles(ok), 1u);
+}
+
+// Found by fuzz_model: a 3ds position track (0xB020) claiming 1644167169
+// keys in 38 bytes made assimp reserve 39 GB. Built here from scratch: main
+// chunk, keyframer, one object node, one track.
+TEST(ModelLoaderErrors, ThreeDsTrackClaimingMoreKeysThanItHoldsIsRefused) {
+  auto chunk = [](unsigned id, const std::string& body) {
+    std::string c;
+    const std::uint32_t len = static_cast<std::uint32_t>(body.size() + 6);
+    c += static_cast<char>(id & 0xFF);
+    c += static_cast<char>(id >> 8);
+    for (int i = 0; i < 4; ++i) c += static_cast<char>((len >> (8 * i)) & 0xFF);
+    return c + body;
+  };
+  std::string track(10, '\0');
+  track += std::string("\x01\x00\x00\x62", 4);  // 0x62000001 keys
+  track += std::string(18, '\0');                   // room for one key
+  testing::TempDir dir;
+  const auto file = dir.write("track.3ds", chunk(0x4D4D, chunk(0xB000, chunk(0xB002, chunk(0xB020, track)))));
+  Scene s;
+  testing::expect_input_error([&] { load_model(file, 1.0, s); },
+                              {"track.3ds", "keyframer track", "claims 1644167169 keys"});
+  // Every 3ds test model still loads (their tracks fit their chunks).
+  for (const char* name : {"test1.3ds", "CameraRollAnim.3ds", "RotatingCube.3DS"}) {
+    Scene ok;
+    load_model(kAssimpModels / "3DS" / name, 1.0, ok);
+    EXPECT_FALSE(ok.parts.empty()) << name;
+  }
 }
 
 TEST(ModelLoaderErrors, OffHeaderBeyondTheFileIsRefusedFast) {

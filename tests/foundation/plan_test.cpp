@@ -63,6 +63,21 @@ TEST_F(PlanTest, ReadsKeysUnitsAndMissingColumns) {
   EXPECT_NEAR(p.states[0][0], -20 * deg, 1e-15);
 }
 
+// The in-memory entry point (used by the fuzz targets) reads what the file
+// reader reads, byte order mark included, and names the given path.
+TEST_F(PlanTest, ParsePlanFromMemoryMatchesTheFile) {
+  const std::string text = "\xEF\xBB\xBF# name: m\ntime,J1\n0,10\n1,20\n";
+  const Plan from_file = load_plan(scene_, dir_.write("m.csv", text));
+  const Plan from_text = parse_plan(scene_, text, "memory/m.csv");
+  EXPECT_EQ(from_text.name, "m");
+  EXPECT_EQ(from_text.file, std::filesystem::path("memory/m.csv"));
+  EXPECT_EQ(from_text.states, from_file.states);
+  EXPECT_EQ(from_text.times, from_file.times);
+  EXPECT_EQ(from_text.lines, (std::vector<long>{3, 4}));
+  testing::expect_input_error([&] { parse_plan(scene_, "J1\n1,2\n", "memory/bad.csv"); },
+                              {"memory/bad.csv:2:", "expected 1 fields, found 2"});
+}
+
 TEST_F(PlanTest, DefaultsCrlfAndTrailingBlankLines) {
   const auto file = dir_.write("plan07.csv", "# target: 1000, 0, 0\r\nJ1\r\n1\r\n2\r\n\r\n\r\n");
   const Plan p = load_plan(scene_, file);

@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
+#include <sstream>
 #include <string>
 
 namespace plancheck {
@@ -93,6 +96,21 @@ TEST_F(DemTest, ErrorsNameTheFileAndLine) {
   EXPECT_NE(error_of(head).find("no data rows"), std::string::npos);
   EXPECT_NE(error_of("").find("ncols missing"), std::string::npos);
   EXPECT_THROW(load_dem(dir_ / "missing.asc", 1.0), InputError);
+}
+
+// Seen while writing the DEM fuzz target: the grid was allocated from the header's
+// counts before any row was read, so a 40-byte file claiming 100000 x 10000
+// samples made load_dem zero-fill 9 GB (or die with bad_alloc). Now it is an
+// error on the first short row, with memory following the data.
+TEST_F(DemTest, HeaderClaimingMoreSamplesThanTheFileHoldsAllocatesNothingLarge) {
+  const std::string text = "ncols 100000\nnrows 10000\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n";
+  EXPECT_NE(error_of(text).find(":6: expected 100000 values, found 2"), std::string::npos);
+  rusage usage{};
+  ASSERT_EQ(getrusage(RUSAGE_SELF, &usage), 0);
+  EXPECT_LT(usage.ru_maxrss, 1024L * 1024L) << "peak resident set (KiB) of this test process";
+  std::istringstream in("ncols 2\nnrows 1\nxllcenter 0\nyllcenter 0\ncellsize 1\n7 8\n");
+  const Dem dem = read_dem(in, "memory.asc", 1.0);
+  EXPECT_EQ(dem.height(1, 0), 8.0);
 }
 
 TEST_F(DemTest, WriterRoundTripsSamplesHolesAndRegistration) {
