@@ -66,7 +66,7 @@ const char* verdict_name(Verdict v) {
   return "?";
 }
 
-Checker::Checker(const Scene& scene, int threads) : scene_(scene) {
+Checker::Checker(const Scene& scene, int threads) : scene_(scene), motion_(scene) {
   std::vector<const Mesh*> meshes;
   for (const Part& p : scene.parts) {
     names_.push_back(p.name);
@@ -290,6 +290,8 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     std::vector<Box> box;
     std::vector<double> lower;
     std::vector<std::size_t> order;
+    std::vector<double> motion;      // per part: path length bound since seed->at (m)
+    std::vector<double> separation;  // per pair: proven lower bound at this state (m)
   };
   static thread_local Scratch scratch;
   std::vector<Affine>& chains = scratch.chains;
@@ -318,7 +320,27 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     terrain_box = posed_box({Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}, kIdentity);
   }
 
-  // Collision: every checked pair whose part boxes meet.
+  // Separations the seed's state proved, less how far each pair's parts
+  // can have moved since: still lower bounds on the pairs' distances here.
+  // Pairs on a dug terrain copy are not carried (the ground itself moves).
+  auto cacheable = [&](std::size_t k) { return pairs_[k].b != terrain_index_ || terrain == terrain_.get(); };
+  std::vector<double>& carried = scratch.separation;
+  carried.assign(pairs_.size(), 0.0);
+  if (seed && seed->separation.size() == pairs_.size() && seed->at.size() == params.size()) {
+    std::vector<double>& motion = scratch.motion;
+    motion.assign(names_.size(), 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+      if (chain_of_[i] >= 0) motion[i] = motion_.part_bound(static_cast<int>(i), seed->at, params);
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      if (!cacheable(k)) continue;
+      const double m = motion[static_cast<std::size_t>(pairs_[k].a)] + motion[static_cast<std::size_t>(pairs_[k].b)];
+      const double c = seed->separation[k] - m;
+      if (c > 0.0) carried[k] = c;  // NaN and infinite motion carry nothing
+    }
+  }
+
+  // Collision: every checked pair whose part boxes meet and whose carried
+  // separation does not already prove them apart.
   std::vector<double>& lower = scratch.lower;
   lower.assign(pairs_.size(), 0.0);
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
@@ -336,7 +358,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       continue;
     }
     if (on_terrain) {
-      lower[k] = box_distance(box[a], terrain_box);
+      lower[k] = std::max(box_distance(box[a], terrain_box), carried[k]);
       if (lower[k] > 0.0) continue;
       CollideResult r;
       collide(models_[a], *pose[a], *terrain, CollideRequest{kMaxTrianglePairsListed}, r);
@@ -347,7 +369,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
       continue;
     }
-    lower[k] = box_distance(box[a], box[b]);
+    lower[k] = std::max(box_distance(box[a], box[b]), carried[k]);
     if (lower[k] > 0.0) continue;
     CollideResult r;
     collide(models_[a], *pose[a], models_[b], *pose[b], CollideRequest{request.max_triangle_pairs}, r);
@@ -364,7 +386,21 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   }
   out.collision = !out.contacts.empty();
   out.limit_action = first_limit_violation(scene_, params);
-  if (!request.distance) return;
+  // What this state proves for the next: each pair's lower bound, raised
+  // below where a distance search settles it. Pairs outside `which` (an
+  // infinite bound) prove nothing.
+  std::vector<double>& proven = carried;  // carried[k] is folded into lower[k] by now
+  for (std::size_t k = 0; k < pairs_.size(); ++k)
+    proven[k] = std::isfinite(lower[k]) && cacheable(k) ? lower[k] : 0.0;
+  auto store_separations = [&] {
+    if (!seed) return;
+    seed->separation.assign(proven.begin(), proven.end());
+    seed->at.assign(params.begin(), params.end());
+  };
+  if (!request.distance) {
+    store_separations();
+    return;
+  }
 
   // Minimum distance: pairs in order of their box lower bound, the best so
   // far pruning the rest; a colliding state needs only a common point.
@@ -384,8 +420,21 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       std::rotate(order.begin(), it, it + 1);
     }
   }
-  const StateSeed hint = seed ? *seed : StateSeed{};
-  if (seed) *seed = StateSeed{};
+  StateSeed hint;
+  if (seed) {
+    hint.pair = seed->pair;
+    hint.slot_a = seed->slot_a;
+    hint.slot_b = seed->slot_b;
+    seed->pair = -1;
+  }
+  // Largest coordinate of a part's boxes, world and own frame (the terrain:
+  // its pyramid's root box): what the double distance's rounding scales with.
+  auto pair_magnitude = [&](int i) {
+    auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
+    if (i == terrain_index_) return mag(terrain_box.lo, terrain_box.hi);
+    const auto& l = local_boxes_[static_cast<std::size_t>(i)];
+    return std::max(mag(box[static_cast<std::size_t>(i)].lo, box[static_cast<std::size_t>(i)].hi), mag(l.first, l.second));
+  };
   bool first = true;
   const double shrink = 1.0 / (1.0 + request.rel_tolerance);
   for (std::size_t k : order) {
@@ -407,8 +456,20 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       distance(models_[a], *pose[a], *terrain, q, r);
     else
       distance(models_[a], *pose[a], models_[b], *pose[b], q, r);
+    // The pair's distance is at least what the search found, or else what
+    // it looked below, each less its tolerances (with rel_tolerance a found
+    // distance may exceed the pair's by that factor); rounding of the double
+    // distance is taken off with the guard a margin test uses.
+    const double settled = (r.found ? r.distance : q.upper_bound) * shrink - q.abs_tolerance;
+    const double guard = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() *
+                                                          std::max(pair_magnitude(a), pair_magnitude(b)));
+    if (!out.collision && std::isfinite(settled)) proven[k] = std::max(proven[k], settled - guard);
     if (r.found && r.distance < out.min_distance) {
-      if (seed) *seed = StateSeed{static_cast<int>(k), r.slot_a, r.slot_b};
+      if (seed) {
+        seed->pair = static_cast<int>(k);
+        seed->slot_a = r.slot_a;
+        seed->slot_b = r.slot_b;
+      }
       out.min_distance = r.distance;
       out.part_a = a;
       out.part_b = b;
@@ -418,22 +479,10 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   }
   if (out.collision) out.min_distance = 0.0;
   if (out.part_a < 0) out.min_distance = std::numeric_limits<double>::infinity();
-  if (out.part_a >= 0) {
-    // The terrain has no model or local box: its pyramid's root box is both.
-    double m = 0.0;
-    auto grow = [&m](const Vec3& lo, const Vec3& hi) {
-      m = std::max({m, lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()});
-    };
-    for (const int i : {out.part_a, out.part_b}) {
-      if (i == terrain_index_) {
-        grow(terrain_box.lo, terrain_box.hi);
-        continue;
-      }
-      grow(box[static_cast<std::size_t>(i)].lo, box[static_cast<std::size_t>(i)].hi);
-      grow(local_boxes_[static_cast<std::size_t>(i)].first, local_boxes_[static_cast<std::size_t>(i)].second);
-    }
-    out.distance_tolerance = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() * m);
-  }
+  if (out.part_a >= 0)
+    out.distance_tolerance = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() *
+                                                              std::max(pair_magnitude(out.part_a), pair_magnitude(out.part_b)));
+  store_separations();
 }
 
 std::vector<PairContact> Checker::reference_contacts() const {

@@ -8,6 +8,7 @@
 #include "src/collision_model.h"
 #include "src/dig.h"
 #include "src/heightfield.h"
+#include "src/motion_bound.h"
 #include "src/probes.h"
 #include "src/plan.h"
 #include "src/scene.h"
@@ -139,10 +140,18 @@ struct CheckRequest {
 
 // Coherence between consecutive states of a plan: the previous state's
 // closest pair (checked pair and triangle slots) seeds the next state's
-// distance search with a tight upper bound. Results never depend on it.
+// distance search with a tight upper bound, and the separations the previous
+// state proved carry over: a pair whose proven distance exceeds how far its
+// parts can have moved since (MotionBound) cannot touch, so its exact
+// collision test is skipped, and its distance search starts from the bound.
+// Verdicts and distances never depend on it.
 struct StateSeed {
   int pair = -1;  // index into the checked pairs; -1: none
   std::uint32_t slot_a = 0, slot_b = 0;
+  // Per checked pair, a proven lower bound (m) on its distance at the
+  // parameters `at` (SI); empty: nothing cached.
+  std::vector<double> separation;
+  std::vector<double> at;
 };
 
 struct VerifyOptions {
@@ -243,6 +252,7 @@ class Checker {
   // triangles were left out (empty: the identity).
   std::vector<std::vector<std::uint32_t>> kept_;
   std::size_t left_out_ = 0;
+  MotionBound motion_;  // how far parts can move between two states (cached separations)
   // Built once with the collision structures, only when the scene needs them.
   std::unique_ptr<const Digger> digger_;        // scoop and terrain
   std::unique_ptr<const ProbeCaster> probes_;   // probes (an Embree scene)
