@@ -29,8 +29,9 @@
 //  - other axes are scaled so max |n_k| = 1, so |n|_1 <= 3: a three-term dot
 //    product errs by <= 9.01 u L + 3 P, a gap by the sum over both triangles
 //    plus 6 u L; the kernels subtract 3 (P_a + P_b)(1 + 2^-10) + 40 u L.
-//  - the squares and the division by |n|^2 >= 1 err by a few u relative; the
-//    result is scaled by (1 - 2^-18).
+//  - the squares and the product with 1 / |n|^2 (|n|^2 >= 1, reciprocal and
+//    sum of squares rounded) err by < 8 u relative; the result is scaled by
+//    (1 - 2^-18) = (1 - 64 u).
 // Values below 1e-30 (distances below 1e-15) are reported as 0, so underflow
 // never matters; extents above 1e9 or not finite give no bound at all (0),
 // so nothing can overflow. Hence: lower2[i][j] <= the exact squared distance

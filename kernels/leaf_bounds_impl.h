@@ -48,7 +48,7 @@ inline void map_leaf(const LeafView& v, Mapped& out) noexcept {
 struct LeafData {
   alignas(64) float lo[3][kLeafLanes], hi[3][kLeafLanes];  // box
   alignas(64) float n[3][kLeafLanes];                     // normal scaled to max |n_k| = 1, or 0
-  alignas(64) float n2[kLeafLanes];                       // |n|^2 (>= 1), 1 when n = 0
+  alignas(64) float inv_n2[kLeafLanes];                   // 1 / |n|^2 rounded (<= 1), 1 when n = 0
   alignas(64) float own_lo[kLeafLanes], own_hi[kLeafLanes];    // span of its vertices on n
   alignas(64) float axis_lo[kLeafLanes], axis_hi[kLeafLanes];  // span on the extra axis
 };
@@ -99,7 +99,9 @@ inline void leaf_data(const Mapped& leaf, int count, const float* axis, LeafData
     nx.store(&d.n[0][t]);
     ny.store(&d.n[1][t]);
     nz.store(&d.n[2][t]);
-    select(proper, nx * nx + ny * ny + nz * nz, one).store(&d.n2[t]);
+    // One division per triangle, not per pair; its rounding (u) is
+    // covered by kShrink.
+    (one / select(proper, nx * nx + ny * ny + nz * nz, one)).store(&d.inv_n2[t]);
     const F p0 = dot(nx, ny, nz, v[0], v[1], v[2]);
     const F p1 = dot(nx, ny, nz, v[3], v[4], v[5]);
     const F p2 = dot(nx, ny, nz, v[6], v[7], v[8]);
@@ -220,18 +222,18 @@ void lower_bounds(const LeafPairInput& in, float cut2, LeafPairBounds& out) noex
   const float box_slack = (perturb + kBoxSlack * in.extent) * kRoundUp;
   const float axis_slack = (3.0f * perturb + kAxisSlack * in.extent) * kRoundUp;
   const F zero = F::broadcast(0.0f), tiny = F::broadcast(kTiny), shrink = F::broadcast(kShrink);
-  const F cut = F::broadcast(cut2), ax2 = F::broadcast(axis2);
+  const F cut = F::broadcast(cut2), inv_ax2 = F::broadcast(1.0f / axis2);
   for (int i = 0; i < in.a.count; ++i) {
     std::uint32_t m = 0;
-    const F na2 = F::broadcast(da.n2[i]);
+    const F inv_na2 = F::broadcast(da.inv_n2[i]);
     for (int t = 0; t < kLeafLanes && t < in.b.count; t += W) {
       const Gaps<F> g = pair_gaps<F>(ma, mb, da, db, i, t, box_slack, axis_slack);
       const F bx = max(g.box[0], zero), by = max(g.box[1], zero), bz = max(g.box[2], zero);
       F lb = bx * bx + by * by + bz * bz;
       const F nb = max(g.nb, zero), na = max(g.na, zero), ax = max(g.ax, zero);
-      lb = max(lb, nb * nb / F::load(&db.n2[t]));
-      lb = max(lb, na * na / na2);
-      lb = max(lb, ax * ax / ax2);
+      lb = max(lb, nb * nb * F::load(&db.inv_n2[t]));
+      lb = max(lb, na * na * inv_na2);
+      lb = max(lb, ax * ax * inv_ax2);
       lb = lb * shrink;
       lb = select(lb.v < tiny.v, zero, lb);
       lb.store(&out.lower2[i][t]);

@@ -678,41 +678,67 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       std::uint32_t any = 0;
       for (std::uint32_t i = 0; i < x.count; ++i) any |= lb.candidates[i];
       if (any == 0) continue;
-      for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
-      for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
+      // The double path, computed as far as the pairs need it: most pairs
+      // left here sit within the float rounding of the best distance (ties,
+      // as parallel faces), and their own triangle boxes settle them, so a
+      // triangle is mapped only when a pair needs it and the leaf-wide axis
+      // only when a box does not settle a pair. The tests are independent
+      // skip conditions, so their order does not change which pairs reach
+      // the kernel.
+      bool mapped_a[kMaxLeafSize] = {}, mapped_b[kMaxLeafSize] = {};
+      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
       // Separating-axis lower bound with the actual vertices, on the axis
       // through the two leaves' vertex centroids: near the closest pair that
       // axis is almost the optimal one, and unlike boxes the vertices carry
       // no slack beyond the patches' own curvature.
       double hi_a[kMaxLeafSize], lo_b[kMaxLeafSize];
-      const double slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
-      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
-      for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
-      for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
+      double slack = 0.0, normal_slack = 0.0;
+      bool whole = false;
+      auto need_a = [&](std::uint32_t i) {
+        if (mapped_a[i]) return;
+        s.a.triangle(x.index + i, tri_a[i]);
+        triangle_box(tri_a[i], box_a[i]);
+        mapped_a[i] = true;
+      };
+      auto need_b = [&](std::uint32_t j) {
+        if (mapped_b[j]) return;
+        s.b.triangle(y.index + j, tri_b[j]);
+        triangle_box(tri_b[j], box_b[j]);
+        mapped_b[j] = true;
+      };
+      auto need_whole = [&] {
+        if (whole) return;
+        for (std::uint32_t i = 0; i < x.count; ++i) need_a(i);
+        for (std::uint32_t j = 0; j < y.count; ++j) need_b(j);
+        slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
+        double big = 0.0;
+        for (std::uint32_t i = 0; i < x.count; ++i)
+          for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
+        for (std::uint32_t j = 0; j < y.count; ++j)
+          for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
+        // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
+        // a gap is a difference of two: 1e-14 big is ample.
+        normal_slack = 1e-14 * big + 1e-300;
+        whole = true;
+      };
       // Each triangle's own unit normal as a separating axis for the pairs
       // it is in: facing patches (an arm's flat underside over a deck) are
       // told apart by a few dot products instead of the 15-feature kernel.
       // Computed on first use: most pairs fall to the cheaper bounds first.
       double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
       bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
-      double big = 0.0;
-      for (std::uint32_t i = 0; i < x.count; ++i)
-        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
-      for (std::uint32_t j = 0; j < y.count; ++j)
-        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
-      // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
-      // a gap is a difference of two: 1e-14 big is ample.
-      const double normal_slack = 1e-14 * big + 1e-300;
       bool done = false;
       for (std::uint32_t i = 0; i < x.count && !done; ++i)
         for (std::uint32_t m = lb.candidates[i]; m != 0; m &= m - 1) {
           const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
           if (lb.lower2[i][j] >= cut2_f) continue;
-          if (lo_b[j] - hi_a[i] - slack >= cut) continue;
-          // Triangle boxes: a second cheap lower bound (axis-aligned gaps),
-          // often tighter than the one axis for pairs side by side.
+          need_a(i);
+          need_b(j);
+          // Triangle boxes: a cheap lower bound (axis-aligned gaps).
           if (box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= best2)
             continue;
+          need_whole();
+          if (lo_b[j] - hi_a[i] - slack >= cut) continue;
           if (!have_a[i]) {
             triangle_normal_span(tri_a[i], norm_a[i]);
             have_a[i] = true;
