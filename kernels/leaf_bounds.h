@@ -138,9 +138,10 @@ const LeafKernels* leaf_kernels_for(Isa isa) noexcept;
 const LeafKernels& leaf_kernels_none() noexcept;
 
 // The kernels every query uses: chosen once, on first call, as the widest the
-// CPU supports, or as named by the environment variable PLANCHECK_ISA
-// (none, scalar, sse4.2, avx2, avx512; an unsupported or unknown name falls
-// back to the widest supported, with a one-line warning on stderr).
+// CPU supports (none when it has no SSE4.2: the scalar prefilter is slower
+// than the double path alone), or as named by the environment variable
+// PLANCHECK_ISA (none, scalar, sse4.2, avx2, avx512; an unsupported or
+// unknown name falls back to the default, with a one-line warning on stderr).
 const LeafKernels& leaf_kernels() noexcept;
 
 // Tests and benchmarks only: makes leaf_kernels() return k from now on (and
