@@ -66,7 +66,8 @@ struct LeafPairInput {
 
 struct LeafPairBounds {
   // Squared distance lower bound of (a_i, b_j) (m^2); 0 when nothing is
-  // proven. Lanes j >= b.count are unspecified.
+  // proven. A pair whose box bound alone reaches cut2 gets that box bound.
+  // Lanes j >= b.count are unspecified.
   alignas(64) float lower2[kLeafLanes][kLeafLanes];
   // Bit j of candidates[i]: (a_i, b_j) may be closer than the cut given
   // (lower2 < cut2); bits j >= b.count are clear.

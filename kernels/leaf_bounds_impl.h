@@ -227,6 +227,29 @@ void lower_bounds(const LeafPairInput& in, float cut2, LeafPairBounds& out) noex
     std::uint32_t m = 0;
     const F inv_na2 = F::broadcast(da.inv_n2[i]);
     for (int t = 0; t < kLeafLanes && t < in.b.count; t += W) {
+      // Box bound first. A lane whose box bound reaches the cut keeps it
+      // (a valid, if weaker, bound; the lane is no candidate either way);
+      // the rule is per lane, so every width stores the same values, and a
+      // register whose valid lanes all reach the cut skips the rest.
+      F box_lb;
+      {
+        F bsum = zero;
+        const F slack = F::broadcast(box_slack);
+        for (int k = 0; k < 3; ++k) {
+          const F blo = F::load(&db.lo[k][t]), bhi = F::load(&db.hi[k][t]);
+          const F alo = F::broadcast(da.lo[k][i]), ahi = F::broadcast(da.hi[k][i]);
+          const F gk = max(max(blo - ahi, alo - bhi) - slack, zero);
+          bsum = bsum + gk * gk;
+        }
+        box_lb = bsum * shrink;
+        box_lb = select(box_lb.v < tiny.v, zero, box_lb);
+      }
+      const auto box_far = box_lb.v >= cut.v;
+      const std::uint32_t lanes_here = (valid >> t) & lane_mask(W);
+      if ((lanes::movemask<F>(box_far) & lanes_here) == lanes_here) {
+        box_lb.store(&out.lower2[i][t]);
+        continue;
+      }
       const Gaps<F> g = pair_gaps<F>(ma, mb, da, db, i, t, box_slack, axis_slack);
       const F bx = max(g.box[0], zero), by = max(g.box[1], zero), bz = max(g.box[2], zero);
       F lb = bx * bx + by * by + bz * bz;
@@ -236,6 +259,7 @@ void lower_bounds(const LeafPairInput& in, float cut2, LeafPairBounds& out) noex
       lb = max(lb, ax * ax * inv_ax2);
       lb = lb * shrink;
       lb = select(lb.v < tiny.v, zero, lb);
+      lb = select(box_far, box_lb, lb);
       lb.store(&out.lower2[i][t]);
       m |= lanes::movemask<F>(lb.v < cut.v) << t;
     }
