@@ -4,13 +4,20 @@
 // (a benchmark that does not check its answer measures nothing); a wrong
 // answer skips the benchmark with an error.
 #include "kernels/box.h"
+#include "kernels/leaf_bounds.h"
 #include "kernels/tri_distance.h"
 #include "kernels/tri_tri_overlap.h"
+#include "src/bvh.h"
 
 #include <benchmark/benchmark.h>
 
+#include <Eigen/Geometry>
+
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -129,6 +136,220 @@ void BM_Box_Overlap(benchmark::State& state) {
   state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
 }
 BENCHMARK(BM_Box_Overlap);
+
+// Leaf pairs as BVH traversal meets them: two leaves of 16 triangles
+// (size 2 cm, a patch of a curved surface each) a few centimetres apart
+// down to touching, b placed by a rigid map, all 1.7e3 m from the origin.
+struct LeafPairs {
+  struct Leaf {
+    std::vector<Tri9> own;    // own frame
+    std::vector<float> soa;
+    float lo[3], hi[3];
+  };
+  std::vector<Leaf> a, b;
+  std::vector<std::array<double, 12>> map_b;  // l row-major, t
+  std::vector<std::vector<Tri9>> working_b;   // b's triangles mapped in double
+  std::vector<LeafPairInput> input;
+};
+
+LeafPairs make_leaf_pairs(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::normal_distribution<double> g;
+  LeafPairs lp;
+  auto make_leaf = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& normal) {
+    LeafPairs::Leaf leaf;
+    const Eigen::Vector3d e1 = normal.unitOrthogonal(), e2 = normal.cross(e1);
+    for (int t = 0; t < kLeafLanes; ++t) {
+      Tri9 tri;
+      const double x = 0.01 * u(rng), y = 0.01 * u(rng);
+      for (int v = 0; v < 3; ++v) {
+        const double dx = x + 0.004 * u(rng), dy = y + 0.004 * u(rng);
+        const Eigen::Vector3d p = c + dx * e1 + dy * e2 - 2.0 * (dx * dx + dy * dy) * normal;
+        for (int k = 0; k < 3; ++k) tri[3 * v + k] = p[k];
+      }
+      leaf.own.push_back(tri);
+    }
+    double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+    for (const Tri9& tri : leaf.own)
+      for (int c2 = 0; c2 < 9; ++c2) {
+        lo[c2 % 3] = std::min(lo[c2 % 3], tri[c2]);
+        hi[c2 % 3] = std::max(hi[c2 % 3], tri[c2]);
+      }
+    for (int k = 0; k < 3; ++k) {
+      leaf.lo[k] = round_down(lo[k]);
+      leaf.hi[k] = round_up(hi[k]);
+    }
+    leaf.soa.assign(9 * (kLeafLanes + kSoaPadding), 0.0f);
+    store_leaf_soa(leaf.soa.data(), kLeafLanes + kSoaPadding, 0, kLeafLanes, leaf.lo, leaf.hi,
+                   [&](std::uint32_t s, int v) { return leaf.own[s].data() + 3 * v; });
+    return leaf;
+  };
+  const Eigen::Vector3d base(1.7e3, -0.4e3, 0.2e3);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d ca = base + Eigen::Vector3d(u(rng), u(rng), u(rng));
+    const Eigen::Vector3d na = Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+    lp.a.push_back(make_leaf(ca, na));
+    // b: a patch facing a at 0 to 3 cm, built in the working frame, then
+    // expressed in its own frame under a random rigid map.
+    Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+    q.normalize();
+    const Eigen::Matrix3d rot = q.toRotationMatrix();
+    const Eigen::Vector3d shift(u(rng), u(rng), u(rng));
+    const double gap = 0.015 * (u(rng) + 1.0);
+    const Eigen::Vector3d cb_w = ca + (gap + 0.0005) * na;
+    const Eigen::Vector3d cb_own = rot.transpose() * (cb_w - shift);
+    lp.b.push_back(make_leaf(cb_own, rot.transpose() * (-na)));
+    std::array<double, 12> m;
+    for (int r = 0; r < 3; ++r) {
+      for (int c2 = 0; c2 < 3; ++c2) m[3 * r + c2] = rot(r, c2);
+      m[9 + r] = shift[r];
+    }
+    lp.map_b.push_back(m);
+    std::vector<Tri9> w;
+    for (const Tri9& tri : lp.b.back().own) {
+      Tri9 o;
+      for (int v = 0; v < 3; ++v)
+        for (int r = 0; r < 3; ++r)
+          o[3 * v + r] = m[3 * r] * tri[3 * v] + m[3 * r + 1] * tri[3 * v + 1] +
+                         m[3 * r + 2] * tri[3 * v + 2] + m[9 + r];
+      w.push_back(o);
+    }
+    lp.working_b.push_back(w);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    LeafSide sa, sb;
+    sa.soa = lp.a[i].soa.data();
+    sa.stride = kLeafLanes + kSoaPadding;
+    sa.size = 2e3;
+    sb.soa = lp.b[i].soa.data();
+    sb.stride = kLeafLanes + kSoaPadding;
+    sb.l = lp.map_b[i].data();
+    sb.t = lp.map_b[i].data() + 9;
+    sb.size = 2e3;
+    LeafPairInput in;
+    make_leaf_pair(sa, 0, kLeafLanes, lp.a[i].lo, lp.a[i].hi, sb, 0, kLeafLanes, lp.b[i].lo,
+                   lp.b[i].hi, in);
+    lp.input.push_back(in);
+  }
+  return lp;
+}
+
+// Checks a kernel table on every pair: bitwise the scalar answer, and
+// conservative against the exact double kernels. Empty string when right.
+std::string check_leaf_kernels(const LeafKernels& k, const LeafPairs& lp) {
+  const LeafKernels& scalar = *leaf_kernels_for(Isa::kScalar);
+  for (std::size_t n = 0; n < lp.input.size(); ++n) {
+    std::uint32_t touch[kLeafLanes], touch_ref[kLeafLanes];
+    LeafPairBounds lb, lb_ref;
+    k.touch_masks(lp.input[n], touch);
+    k.lower_bounds(lp.input[n], 1e30f, lb);
+    scalar.touch_masks(lp.input[n], touch_ref);
+    scalar.lower_bounds(lp.input[n], 1e30f, lb_ref);
+    for (int i = 0; i < kLeafLanes; ++i) {
+      if (touch[i] != touch_ref[i]) return "touch mask differs from scalar";
+      for (int j = 0; j < kLeafLanes; ++j) {
+        if (std::bit_cast<std::uint32_t>(lb.lower2[i][j]) !=
+            std::bit_cast<std::uint32_t>(lb_ref.lower2[i][j]))
+          return "lower bound differs from scalar";
+        const double* p = lp.a[n].own[static_cast<std::size_t>(i)].data();
+        const double* q = lp.working_b[n][static_cast<std::size_t>(j)].data();
+        const bool touching = tri_tri_overlap(p, p + 3, p + 6, q, q + 3, q + 6);
+        if (touching && !((touch[i] >> j) & 1u)) return "rejected a touching pair";
+        if (std::sqrt(static_cast<double>(lb.lower2[i][j])) > tri_distance(p, q).distance + 1e-9)
+          return "lower bound above the distance";
+      }
+    }
+  }
+  return "";
+}
+
+const LeafPairs& bench_leaf_pairs() {
+  static const LeafPairs lp = make_leaf_pairs(256, 21);
+  return lp;
+}
+
+// One leaf pair (16 x 16 triangle pairs) per iteration.
+void BM_LeafBounds_Touch(benchmark::State& state, const LeafKernels* k) {
+  const LeafPairs& lp = bench_leaf_pairs();
+  const std::string error = check_leaf_kernels(*k, lp);
+  if (!error.empty()) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  std::uint32_t touch[kLeafLanes];
+  std::size_t n = 0, kept = 0;
+  for (auto _ : state) {
+    k->touch_masks(lp.input[n], touch);
+    kept += static_cast<std::size_t>(std::popcount(touch[0]));
+    benchmark::DoNotOptimize(touch);
+    n = (n + 1) % lp.input.size();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kLeafLanes * kLeafLanes);
+  state.counters["kept_row0"] = static_cast<double>(kept) / static_cast<double>(state.iterations());
+}
+
+void BM_LeafBounds_Lower(benchmark::State& state, const LeafKernels* k) {
+  const LeafPairs& lp = bench_leaf_pairs();
+  const std::string error = check_leaf_kernels(*k, lp);
+  if (!error.empty()) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  LeafPairBounds lb;
+  std::size_t n = 0;
+  for (auto _ : state) {
+    k->lower_bounds(lp.input[n], 1e-4f, lb);
+    benchmark::DoNotOptimize(lb);
+    n = (n + 1) % lp.input.size();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kLeafLanes * kLeafLanes);
+}
+
+// The same leaf pairs on the double path alone (b already mapped, which the
+// float kernels' time includes): exact box filter, then the exact overlap test.
+void BM_LeafBounds_DoubleOverlapReference(benchmark::State& state) {
+  const LeafPairs& lp = bench_leaf_pairs();
+  std::size_t n = 0;
+  for (auto _ : state) {
+    int hits = 0;
+    for (int i = 0; i < kLeafLanes; ++i) {
+      const double* p = lp.a[n].own[static_cast<std::size_t>(i)].data();
+      double pb[6];
+      for (int k = 0; k < 3; ++k) {
+        pb[k] = std::min({p[k], p[3 + k], p[6 + k]});
+        pb[3 + k] = std::max({p[k], p[3 + k], p[6 + k]});
+      }
+      for (int j = 0; j < kLeafLanes; ++j) {
+        const double* q = lp.working_b[n][static_cast<std::size_t>(j)].data();
+        double qb[6];
+        for (int k = 0; k < 3; ++k) {
+          qb[k] = std::min({q[k], q[3 + k], q[6 + k]});
+          qb[3 + k] = std::max({q[k], q[3 + k], q[6 + k]});
+        }
+        if (!boxes_overlap(pb, pb + 3, qb, qb + 3)) continue;
+        hits += tri_tri_overlap(p, p + 3, p + 6, q, q + 3, q + 6);
+      }
+    }
+    benchmark::DoNotOptimize(hits);
+    n = (n + 1) % lp.input.size();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()) * kLeafLanes * kLeafLanes);
+}
+BENCHMARK(BM_LeafBounds_DoubleOverlapReference);
+
+// One registration per instruction set this CPU has (names end in /<isa>).
+const bool registered = [] {
+  for (int i = 0; i < kIsaCount; ++i) {
+    const LeafKernels* k = leaf_kernels_for(static_cast<Isa>(i));
+    if (k == nullptr) continue;
+    benchmark::RegisterBenchmark((std::string("BM_LeafBounds_Touch/") + k->name).c_str(),
+                                 BM_LeafBounds_Touch, k);
+    benchmark::RegisterBenchmark((std::string("BM_LeafBounds_Lower/") + k->name).c_str(),
+                                 BM_LeafBounds_Lower, k);
+  }
+  return true;
+}();
 
 }  // namespace
 }  // namespace plancheck::bench

@@ -2,6 +2,7 @@
 #include "src/bvh.h"
 
 #include "src/error.h"
+#include "kernels/leaf_bounds.h"
 
 #include <Eigen/Eigenvalues>
 
@@ -11,6 +12,8 @@
 #include <string>
 
 namespace plancheck {
+
+static_assert(kMaxLeafSize <= kLeafLanes, "the leaf prefilters hold one leaf in 16 lanes");
 
 float round_down(double x) {
   float f = static_cast<float>(x);
@@ -203,7 +206,19 @@ CollisionModelData build_collision_data(const Mesh& mesh) {
   }
   data.vertices.shrink_to_fit();
   compute_node_obbs(data);
+  compute_leaf_soa(data);
   return data;
+}
+
+void compute_leaf_soa(CollisionModelData& data) {
+  const std::size_t n = data.triangle_count();
+  data.soa_stride = n + kSoaPadding;
+  data.soa.assign(9 * data.soa_stride, 0.0f);
+  for (const BvhNode& node : data.bvh.nodes)
+    if (node.is_leaf())
+      store_leaf_soa(data.soa.data(), data.soa_stride, node.index, static_cast<int>(node.count),
+                     node.lo, node.hi,
+                     [&](std::uint32_t slot, int v) { return data.vertex(slot, v); });
 }
 
 void compute_node_obbs(CollisionModelData& data) {

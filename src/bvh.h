@@ -88,7 +88,16 @@ struct CollisionModelData {
   // max over vertices of |x|, |y|, |z| per axis: sizes rounding margins.
   std::array<double, 3> max_abs = {0, 0, 0};
   std::vector<NodeObb> obbs;  // one per bvh node, same index
+  // The triangles again as floats for the SIMD leaf prefilters
+  // (kernels/leaf_bounds.h): coordinate c (= 3 v + k) of slot s at
+  // soa[c * soa_stride + s], relative to the centre of the slot's leaf box;
+  // soa_stride = slots + kSoaPadding. 36 bytes per triangle.
+  std::vector<float> soa;
+  std::size_t soa_stride = 0;
 };
+
+// Fills data.soa from data.bvh's leaves and the vertices.
+void compute_leaf_soa(CollisionModelData& data);
 
 // Fills data.obbs from data.bvh and data.triangles.
 void compute_node_obbs(CollisionModelData& data);

@@ -23,6 +23,7 @@
 #include "src/collision_model.h"
 
 #include "kernels/box.h"
+#include "kernels/leaf_bounds.h"
 #include "kernels/tri_distance.h"
 #include "kernels/tri_tri_overlap.h"
 #include "src/bvh.h"
@@ -47,7 +48,7 @@ std::size_t CollisionModel::memory_bytes() const {
          data_->bvh.prim_ids.capacity() * sizeof(std::uint32_t) +
          data_->vertices.capacity() * sizeof(data_->vertices[0]) +
          data_->corners.capacity() * sizeof(data_->corners[0]) +
-         data_->obbs.capacity() * sizeof(NodeObb);
+         data_->obbs.capacity() * sizeof(NodeObb) + data_->soa.capacity() * sizeof(float);
 }
 
 namespace {
@@ -100,6 +101,26 @@ struct Side {
       widen_box(n.lo, n.hi, margin, lo, hi);
     else
       map_box(map, n.lo, n.hi, margin, lo, hi);
+  }
+
+  // This side for the SIMD leaf prefilters (kernels/leaf_bounds.h).
+  LeafSide leaf_side() const {
+    LeafSide ls;
+    ls.soa = data->soa.data();
+    ls.stride = data->soa_stride;
+    double size = 0.0;
+    for (int r = 0; r < 3; ++r) {
+      double row = identity ? data->max_abs[r] : std::abs(map.t[r]);
+      if (!identity)
+        for (int c = 0; c < 3; ++c) row += map.abs_l[3 * r + c] * data->max_abs[c];
+      size = std::max(size, row);
+    }
+    ls.size = size * (1.0 + 1e-6);
+    if (!identity) {
+      ls.l = map.l;
+      ls.t = map.t;
+    }
+    return ls;
   }
 
   // Working-frame coordinates of the triangle in slot s.
@@ -425,6 +446,8 @@ void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstH
   stack.clear();
   stack.push_back({0, 0, 0.0});
   double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+  const LeafKernels& kernels = leaf_kernels();
+  const LeafSide side_a = s.a.leaf_side(), side_b = s.b.leaf_side();
   while (!stack.empty()) {
     const NodePair p = stack.back();
     stack.pop_back();
@@ -446,6 +469,18 @@ void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstH
     const BvhNode& x = na[p.a];
     const BvhNode& y = nb[p.b];
     if (x.is_leaf() && y.is_leaf()) {
+      // SIMD float prefilter on the stored float triangles
+      // (kernels/leaf_bounds.h): a pair it proves apart cannot touch, so only
+      // the rest reach the exact test, in the same order as without it, and
+      // a leaf pair with none left is never mapped in double.
+      LeafPairInput in;
+      make_leaf_pair(side_a, x.index, static_cast<int>(x.count), x.lo, x.hi, side_b, y.index,
+                     static_cast<int>(y.count), y.lo, y.hi, in);
+      std::uint32_t touch[kLeafLanes];
+      kernels.touch_masks(in, touch);
+      std::uint32_t any = 0;
+      for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
+      if (any == 0) continue;
       for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
       for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
       // Exact per-triangle box prefilter: the boxes come from the very
@@ -454,7 +489,8 @@ void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstH
       for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
       for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
       for (std::uint32_t i = 0; i < x.count; ++i)
-        for (std::uint32_t j = 0; j < y.count; ++j) {
+        for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
+          const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
           if (!boxes_overlap(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3)) continue;
           const double* p0 = tri_a[i];
           const double* q0 = tri_b[j];
@@ -607,6 +643,15 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
     }
   }
   double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+  const LeafKernels& kernels = leaf_kernels();
+  const LeafSide side_a = s.a.leaf_side(), side_b = s.b.leaf_side();
+  const double kernel_slack = 1e-13 * std::max(side_a.size, side_b.size) + 1e-300;
+  // (best + kernel_slack)^2 rounded up to float: a float bound at or above
+  // it proves the pair cannot improve on best.
+  auto float_cut2 = [&] {
+    const double c = best + kernel_slack;
+    return round_up(c * c * (1.0 + 1e-15));
+  };
   while (!stack.empty()) {
     const NodePair p = stack.back();
     stack.pop_back();
@@ -615,38 +660,85 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
     const BvhNode& x = na[p.a];
     const BvhNode& y = nb[p.b];
     if (x.is_leaf() && y.is_leaf()) {
-      for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
-      for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
+      // SIMD float lower bounds first, on the stored float triangles
+      // (kernels/leaf_bounds.h). A pair is skipped only when its bound
+      // reaches best + kernel_slack: the double kernel's value for it would
+      // then be >= best (its closest points lie within a few ulps of `size`
+      // of the triangles, far less than kernel_slack), so it could not have
+      // changed the answer. The double bounds below still settle every
+      // remaining pair as before, so the result is the same as without this
+      // filter, at every width; a leaf pair with no pair left is never
+      // mapped in double.
+      LeafPairInput in;
+      make_leaf_pair(side_a, x.index, static_cast<int>(x.count), x.lo, x.hi, side_b, y.index,
+                     static_cast<int>(y.count), y.lo, y.hi, in);
+      float cut2_f = float_cut2();
+      LeafPairBounds lb;
+      kernels.lower_bounds(in, cut2_f, lb);
+      std::uint32_t any = 0;
+      for (std::uint32_t i = 0; i < x.count; ++i) any |= lb.candidates[i];
+      if (any == 0) continue;
+      // The double path, computed as far as the pairs need it: most pairs
+      // left here sit within the float rounding of the best distance (ties,
+      // as parallel faces), and their own triangle boxes settle them, so a
+      // triangle is mapped only when a pair needs it and the leaf-wide axis
+      // only when a box does not settle a pair. The tests are independent
+      // skip conditions, so their order does not change which pairs reach
+      // the kernel.
+      bool mapped_a[kMaxLeafSize] = {}, mapped_b[kMaxLeafSize] = {};
+      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
       // Separating-axis lower bound with the actual vertices, on the axis
       // through the two leaves' vertex centroids: near the closest pair that
       // axis is almost the optimal one, and unlike boxes the vertices carry
       // no slack beyond the patches' own curvature.
       double hi_a[kMaxLeafSize], lo_b[kMaxLeafSize];
-      const double slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
-      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
-      for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
-      for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
+      double slack = 0.0, normal_slack = 0.0;
+      bool whole = false;
+      auto need_a = [&](std::uint32_t i) {
+        if (mapped_a[i]) return;
+        s.a.triangle(x.index + i, tri_a[i]);
+        triangle_box(tri_a[i], box_a[i]);
+        mapped_a[i] = true;
+      };
+      auto need_b = [&](std::uint32_t j) {
+        if (mapped_b[j]) return;
+        s.b.triangle(y.index + j, tri_b[j]);
+        triangle_box(tri_b[j], box_b[j]);
+        mapped_b[j] = true;
+      };
+      auto need_whole = [&] {
+        if (whole) return;
+        for (std::uint32_t i = 0; i < x.count; ++i) need_a(i);
+        for (std::uint32_t j = 0; j < y.count; ++j) need_b(j);
+        slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
+        double big = 0.0;
+        for (std::uint32_t i = 0; i < x.count; ++i)
+          for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
+        for (std::uint32_t j = 0; j < y.count; ++j)
+          for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
+        // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
+        // a gap is a difference of two: 1e-14 big is ample.
+        normal_slack = 1e-14 * big + 1e-300;
+        whole = true;
+      };
       // Each triangle's own unit normal as a separating axis for the pairs
       // it is in: facing patches (an arm's flat underside over a deck) are
       // told apart by a few dot products instead of the 15-feature kernel.
       // Computed on first use: most pairs fall to the cheaper bounds first.
       double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
       bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
-      double big = 0.0;
-      for (std::uint32_t i = 0; i < x.count; ++i)
-        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
-      for (std::uint32_t j = 0; j < y.count; ++j)
-        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
-      // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
-      // a gap is a difference of two: 1e-14 big is ample.
-      const double normal_slack = 1e-14 * big + 1e-300;
-      for (std::uint32_t i = 0; i < x.count; ++i)
-        for (std::uint32_t j = 0; j < y.count; ++j) {
-          if (lo_b[j] - hi_a[i] - slack >= cut) continue;
-          // Triangle boxes: a second cheap lower bound (axis-aligned gaps),
-          // often tighter than the one axis for pairs side by side.
+      bool done = false;
+      for (std::uint32_t i = 0; i < x.count && !done; ++i)
+        for (std::uint32_t m = lb.candidates[i]; m != 0; m &= m - 1) {
+          const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+          if (lb.lower2[i][j] >= cut2_f) continue;
+          need_a(i);
+          need_b(j);
+          // Triangle boxes: a cheap lower bound (axis-aligned gaps).
           if (box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= best2)
             continue;
+          need_whole();
+          if (lo_b[j] - hi_a[i] - slack >= cut) continue;
           if (!have_a[i]) {
             triangle_normal_span(tri_a[i], norm_a[i]);
             have_a[i] = true;
@@ -678,8 +770,10 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
           best_sb = y.index + j;
           best_pa = d.point_p;
           best_pb = d.point_q;
+          cut2_f = float_cut2();
           if (best == 0.0) {
             stack.clear();
+            done = true;
             break;
           }
         }

@@ -1,0 +1,276 @@
+// SPDX-License-Identifier: MIT
+// The leaf-pair prefilters of kernels/leaf_bounds.h written once over the lane
+// type; included only by kernels/leaf_bounds_<isa>.cpp, each of which
+// instantiates them with its own width and a private tag. The error bounds
+// are derived in kernels/leaf_bounds.h.
+#pragma once
+
+#include "kernels/lanes.h"
+#include "kernels/leaf_bounds.h"
+
+namespace plancheck::leaf_bounds_detail {
+// Internal linkage for everything here, templates or not: each including
+// file is compiled with different instruction-set flags (see lanes.h).
+namespace {
+
+inline constexpr float kUnit = 0x1p-24f;           // u, unit roundoff of float
+inline constexpr float kBoxSlack = 8.0f * kUnit;    // box-axis gap error / extent
+inline constexpr float kAxisSlack = 40.0f * kUnit;  // scaled-axis gap error / extent
+inline constexpr float kPerturbFactor = 1.0f + 0x1p-10f;
+inline constexpr float kRoundUp = 1.0f + 0x1p-20f;  // covers the rounding of the slacks' sums
+inline constexpr float kShrink = 1.0f - 0x1p-18f;   // covers squaring and division
+inline constexpr float kTiny = 1e-30f;              // below: reported as 0
+inline constexpr float kMaxExtent = 1e9f;           // above: no bound at all
+
+// One leaf's triangles in the working frame (minus O), lanes over triangles.
+struct Mapped {
+  alignas(64) float c[9][kLeafLanes];
+};
+
+// x = L v + off per lane, in this order (the bound counts four roundings).
+template <class F>
+inline void map_leaf(const LeafView& v, Mapped& out) noexcept {
+  constexpr int W = F::kWidth;
+  F m[12];
+  for (int k = 0; k < 12; ++k) m[k] = F::broadcast(v.map[k]);
+  for (int t = 0; t < v.count; t += W) {
+    for (int vert = 0; vert < 3; ++vert) {
+      const F x = F::load(v.soa + static_cast<std::size_t>(3 * vert) * v.stride + t);
+      const F y = F::load(v.soa + static_cast<std::size_t>(3 * vert + 1) * v.stride + t);
+      const F z = F::load(v.soa + static_cast<std::size_t>(3 * vert + 2) * v.stride + t);
+      for (int r = 0; r < 3; ++r)
+        (m[3 * r] * x + m[3 * r + 1] * y + m[3 * r + 2] * z + m[9 + r]).store(&out.c[3 * vert + r][t]);
+    }
+  }
+}
+
+// Per-triangle data of one leaf, lanes over its triangles.
+struct LeafData {
+  alignas(64) float lo[3][kLeafLanes], hi[3][kLeafLanes];  // box
+  alignas(64) float n[3][kLeafLanes];                     // normal scaled to max |n_k| = 1, or 0
+  alignas(64) float inv_n2[kLeafLanes];                   // 1 / |n|^2 rounded (<= 1), 1 when n = 0
+  alignas(64) float own_lo[kLeafLanes], own_hi[kLeafLanes];    // span of its vertices on n
+  alignas(64) float axis_lo[kLeafLanes], axis_hi[kLeafLanes];  // span on the extra axis
+};
+
+template <class F>
+inline F dot(F nx, F ny, F nz, F x, F y, F z) noexcept {
+  return nx * x + ny * y + nz * z;
+}
+
+// The extra axis scaled so its largest component is 1 (or all zero), and its
+// squared length (1 for the zero axis).
+inline void scale_axis(const float* in, float* out, float& len2) noexcept {
+  float s = 0.0f;
+  for (int k = 0; k < 3; ++k) {
+    const float a = in[k] < 0.0f ? -in[k] : in[k];
+    s = a > s ? a : s;
+  }
+  if (!(s > kTiny) || !(s < 1e30f)) {
+    out[0] = out[1] = out[2] = 0.0f;
+    len2 = 1.0f;
+    return;
+  }
+  for (int k = 0; k < 3; ++k) out[k] = in[k] / s;
+  len2 = out[0] * out[0] + out[1] * out[1] + out[2] * out[2];
+}
+
+template <class F>
+inline void leaf_data(const Mapped& leaf, int count, const float* axis, LeafData& d) noexcept {
+  constexpr int W = F::kWidth;
+  const F ax = F::broadcast(axis[0]), ay = F::broadcast(axis[1]), az = F::broadcast(axis[2]);
+  const F zero = F::broadcast(0.0f), one = F::broadcast(1.0f), tiny = F::broadcast(kTiny);
+  for (int t = 0; t < count; t += W) {
+    F v[9];
+    for (int c = 0; c < 9; ++c) v[c] = F::load(&leaf.c[c][t]);
+    for (int k = 0; k < 3; ++k) {
+      min(min(v[k], v[3 + k]), v[6 + k]).store(&d.lo[k][t]);
+      max(max(v[k], v[3 + k]), v[6 + k]).store(&d.hi[k][t]);
+    }
+    const F ux = v[3] - v[0], uy = v[4] - v[1], uz = v[5] - v[2];
+    const F wx = v[6] - v[0], wy = v[7] - v[1], wz = v[8] - v[2];
+    F nx = uy * wz - uz * wy, ny = uz * wx - ux * wz, nz = ux * wy - uy * wx;
+    const F s = max(max(abs(nx), abs(ny)), abs(nz));
+    const auto proper = s.v > tiny.v;
+    const F safe = select(proper, s, one);
+    nx = select(proper, nx / safe, zero);
+    ny = select(proper, ny / safe, zero);
+    nz = select(proper, nz / safe, zero);
+    nx.store(&d.n[0][t]);
+    ny.store(&d.n[1][t]);
+    nz.store(&d.n[2][t]);
+    // One division per triangle, not per pair; its rounding (u) is
+    // covered by kShrink.
+    (one / select(proper, nx * nx + ny * ny + nz * nz, one)).store(&d.inv_n2[t]);
+    const F p0 = dot(nx, ny, nz, v[0], v[1], v[2]);
+    const F p1 = dot(nx, ny, nz, v[3], v[4], v[5]);
+    const F p2 = dot(nx, ny, nz, v[6], v[7], v[8]);
+    min(min(p0, p1), p2).store(&d.own_lo[t]);
+    max(max(p0, p1), p2).store(&d.own_hi[t]);
+    const F q0 = dot(ax, ay, az, v[0], v[1], v[2]);
+    const F q1 = dot(ax, ay, az, v[3], v[4], v[5]);
+    const F q2 = dot(ax, ay, az, v[6], v[7], v[8]);
+    min(min(q0, q1), q2).store(&d.axis_lo[t]);
+    max(max(q0, q1), q2).store(&d.axis_hi[t]);
+  }
+}
+
+// Gaps of a_i against the lanes t.. of b, each already reduced by its error
+// bound (so > 0 proves separation on that axis): the three box axes, b's
+// normals, a_i's normal and the extra axis.
+template <class F>
+struct Gaps {
+  F box[3], nb, na, ax;
+};
+
+template <class F>
+inline Gaps<F> pair_gaps(const Mapped& ma, const Mapped& mb, const LeafData& da,
+                         const LeafData& db, int i, int t, float box_slack_s,
+                         float axis_slack_s) noexcept {
+  const F box_slack = F::broadcast(box_slack_s);
+  const F axis_slack = F::broadcast(axis_slack_s);
+  Gaps<F> g;
+  for (int k = 0; k < 3; ++k) {
+    const F blo = F::load(&db.lo[k][t]), bhi = F::load(&db.hi[k][t]);
+    const F alo = F::broadcast(da.lo[k][i]), ahi = F::broadcast(da.hi[k][i]);
+    g.box[k] = max(blo - ahi, alo - bhi) - box_slack;
+  }
+  // a_i's vertices on b's normals.
+  {
+    const F nx = F::load(&db.n[0][t]), ny = F::load(&db.n[1][t]), nz = F::load(&db.n[2][t]);
+    F p[3];
+    for (int v = 0; v < 3; ++v)
+      p[v] = dot(nx, ny, nz, F::broadcast(ma.c[3 * v][i]), F::broadcast(ma.c[3 * v + 1][i]),
+                 F::broadcast(ma.c[3 * v + 2][i]));
+    const F lo = min(min(p[0], p[1]), p[2]), hi = max(max(p[0], p[1]), p[2]);
+    g.nb = max(lo - F::load(&db.own_hi[t]), F::load(&db.own_lo[t]) - hi) - axis_slack;
+  }
+  // b's vertices on a_i's normal.
+  {
+    const F nx = F::broadcast(da.n[0][i]), ny = F::broadcast(da.n[1][i]),
+            nz = F::broadcast(da.n[2][i]);
+    F p[3];
+    for (int v = 0; v < 3; ++v)
+      p[v] = dot(nx, ny, nz, F::load(&mb.c[3 * v][t]), F::load(&mb.c[3 * v + 1][t]),
+                 F::load(&mb.c[3 * v + 2][t]));
+    const F lo = min(min(p[0], p[1]), p[2]), hi = max(max(p[0], p[1]), p[2]);
+    g.na = max(lo - F::broadcast(da.own_hi[i]), F::broadcast(da.own_lo[i]) - hi) - axis_slack;
+  }
+  g.ax = max(F::load(&db.axis_lo[t]) - F::broadcast(da.axis_hi[i]),
+             F::broadcast(da.axis_lo[i]) - F::load(&db.axis_hi[t])) -
+         axis_slack;
+  return g;
+}
+
+inline std::uint32_t lane_mask(int count) noexcept {
+  return count >= 32 ? ~0u : ((1u << count) - 1u);
+}
+
+inline bool usable_extent(float extent) noexcept { return extent <= kMaxExtent; }  // false for NaN
+
+template <class F>
+void touch_masks(const LeafPairInput& in, std::uint32_t* touch) noexcept {
+  constexpr int W = F::kWidth;
+  const std::uint32_t valid = lane_mask(in.b.count);
+  if (!usable_extent(in.extent)) {
+    for (int i = 0; i < in.a.count; ++i) touch[i] = valid;
+    return;
+  }
+  float axis[3], axis2;
+  scale_axis(in.axis, axis, axis2);
+  Mapped ma, mb;
+  map_leaf<F>(in.a, ma);
+  map_leaf<F>(in.b, mb);
+  LeafData da, db;
+  leaf_data<F>(ma, in.a.count, axis, da);
+  leaf_data<F>(mb, in.b.count, axis, db);
+  const float perturb = (in.a.perturb + in.b.perturb) * kPerturbFactor;
+  const float box_slack = (perturb + kBoxSlack * in.extent) * kRoundUp;
+  const float axis_slack = (3.0f * perturb + kAxisSlack * in.extent) * kRoundUp;
+  const F zero = F::broadcast(0.0f);
+  for (int i = 0; i < in.a.count; ++i) {
+    std::uint32_t m = 0;
+    for (int t = 0; t < kLeafLanes && t < in.b.count; t += W) {
+      const Gaps<F> g = pair_gaps<F>(ma, mb, da, db, i, t, box_slack, axis_slack);
+      const F sep = max(max(max(g.box[0], g.box[1]), max(g.box[2], g.nb)), max(g.na, g.ax));
+      m |= lanes::movemask<F>(sep.v <= zero.v) << t;
+    }
+    touch[i] = m & valid;
+  }
+}
+
+template <class F>
+void lower_bounds(const LeafPairInput& in, float cut2, LeafPairBounds& out) noexcept {
+  constexpr int W = F::kWidth;
+  const std::uint32_t valid = lane_mask(in.b.count);
+  if (!usable_extent(in.extent)) {
+    for (int i = 0; i < in.a.count; ++i) {
+      for (int t = 0; t < kLeafLanes; ++t) out.lower2[i][t] = 0.0f;
+      out.candidates[i] = valid;
+    }
+    return;
+  }
+  float axis[3], axis2;
+  scale_axis(in.axis, axis, axis2);
+  Mapped ma, mb;
+  map_leaf<F>(in.a, ma);
+  map_leaf<F>(in.b, mb);
+  LeafData da, db;
+  leaf_data<F>(ma, in.a.count, axis, da);
+  leaf_data<F>(mb, in.b.count, axis, db);
+  const float perturb = (in.a.perturb + in.b.perturb) * kPerturbFactor;
+  const float box_slack = (perturb + kBoxSlack * in.extent) * kRoundUp;
+  const float axis_slack = (3.0f * perturb + kAxisSlack * in.extent) * kRoundUp;
+  const F zero = F::broadcast(0.0f), tiny = F::broadcast(kTiny), shrink = F::broadcast(kShrink);
+  const F cut = F::broadcast(cut2), inv_ax2 = F::broadcast(1.0f / axis2);
+  for (int i = 0; i < in.a.count; ++i) {
+    std::uint32_t m = 0;
+    const F inv_na2 = F::broadcast(da.inv_n2[i]);
+    for (int t = 0; t < kLeafLanes && t < in.b.count; t += W) {
+      // Box bound first. A lane whose box bound reaches the cut keeps it
+      // (a valid, if weaker, bound; the lane is no candidate either way);
+      // the rule is per lane, so every width stores the same values, and a
+      // register whose valid lanes all reach the cut skips the rest.
+      F box_lb;
+      {
+        F bsum = zero;
+        const F slack = F::broadcast(box_slack);
+        for (int k = 0; k < 3; ++k) {
+          const F blo = F::load(&db.lo[k][t]), bhi = F::load(&db.hi[k][t]);
+          const F alo = F::broadcast(da.lo[k][i]), ahi = F::broadcast(da.hi[k][i]);
+          const F gk = max(max(blo - ahi, alo - bhi) - slack, zero);
+          bsum = bsum + gk * gk;
+        }
+        box_lb = bsum * shrink;
+        box_lb = select(box_lb.v < tiny.v, zero, box_lb);
+      }
+      const auto box_far = box_lb.v >= cut.v;
+      const std::uint32_t lanes_here = (valid >> t) & lane_mask(W);
+      if ((lanes::movemask<F>(box_far) & lanes_here) == lanes_here) {
+        box_lb.store(&out.lower2[i][t]);
+        continue;
+      }
+      const Gaps<F> g = pair_gaps<F>(ma, mb, da, db, i, t, box_slack, axis_slack);
+      const F bx = max(g.box[0], zero), by = max(g.box[1], zero), bz = max(g.box[2], zero);
+      F lb = bx * bx + by * by + bz * bz;
+      const F nb = max(g.nb, zero), na = max(g.na, zero), ax = max(g.ax, zero);
+      lb = max(lb, nb * nb * F::load(&db.inv_n2[t]));
+      lb = max(lb, na * na * inv_na2);
+      lb = max(lb, ax * ax * inv_ax2);
+      lb = lb * shrink;
+      lb = select(lb.v < tiny.v, zero, lb);
+      lb = select(box_far, box_lb, lb);
+      lb.store(&out.lower2[i][t]);
+      m |= lanes::movemask<F>(lb.v < cut.v) << t;
+    }
+    out.candidates[i] = m & valid;
+  }
+}
+
+template <class F>
+constexpr LeafKernels make_kernels(const char* name) noexcept {
+  return LeafKernels{name, F::kWidth, &touch_masks<F>, &lower_bounds<F>};
+}
+
+}  // namespace
+}  // namespace plancheck::leaf_bounds_detail
