@@ -221,12 +221,22 @@ void check_off_counts(const std::filesystem::path& file) {
 // assimp 5.2's PLY reader never returns on a header that ends before its
 // "end_header" line (found by fuzz_model: a 121-byte truncated header hung
 // `plancheck scene` forever). The header is text ahead of any binary body,
-// so that line is looked for first.
+// so that line is looked for first. Whatever the extension: assimp hands a
+// file whose own importer refuses it to any importer that recognises its
+// content, and the PLY reader takes any file that starts with "ply" (found
+// by fuzz_model: PLY text named model.glb hung the same way).
 void check_ply_header(const std::filesystem::path& file) {
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  if (ext != ".ply") return;
   std::ifstream in(file, std::ios::binary);
+  char magic[3] = {0, 0, 0};
+  in.read(magic, 3);
+  const bool ply_content = in.gcount() == 3 && std::tolower(static_cast<unsigned char>(magic[0])) == 'p' &&
+                           std::tolower(static_cast<unsigned char>(magic[1])) == 'l' &&
+                           std::tolower(static_cast<unsigned char>(magic[2])) == 'y';
+  if (ext != ".ply" && !ply_content) return;
+  in.clear();
+  in.seekg(0);
   std::string line;
   while (std::getline(in, line)) {
     const std::size_t first = line.find_first_not_of(" \t\r");
