@@ -326,7 +326,9 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   auto cacheable = [&](std::size_t k) { return pairs_[k].b != terrain_index_ || terrain == terrain_.get(); };
   std::vector<double>& carried = scratch.separation;
   carried.assign(pairs_.size(), 0.0);
-  if (seed && seed->separation.size() == pairs_.size() && seed->at.size() == params.size()) {
+  // A collision-only check proves nothing beyond box gaps, which are cheaper
+  // to recompute than the motion bound: it neither reads nor leaves any.
+  if (request.distance && seed && seed->separation.size() == pairs_.size() && seed->at.size() == params.size()) {
     std::vector<double>& motion = scratch.motion;
     motion.assign(names_.size(), 0.0);
     for (std::size_t i = 0; i < n; ++i)
@@ -398,7 +400,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     seed->at.assign(params.begin(), params.end());
   };
   if (!request.distance) {
-    store_separations();
+    if (seed) seed->separation.clear();
     return;
   }
 
