@@ -47,6 +47,7 @@
 #include "src/model_loader.h"
 
 #include "src/error.h"
+#include "src/isolate.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/config.h>
@@ -65,6 +66,8 @@
 #include <map>
 #include <set>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -565,19 +568,8 @@ class Builder {
   std::set<unsigned> used_meshes_;
 };
 
-}  // namespace
-
-void load_model(const std::filesystem::path& model, double length_scale, Scene& scene) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(model, ec)) fail(model, "cannot open model file (missing or not a file)");
-  {
-    std::ifstream probe(model, std::ios::binary);
-    if (!probe) fail(model, "cannot open model file");
-    if (probe.peek() == std::ifstream::traits_type::eof()) fail(model, "cannot read model: the file is empty");
-  }
-  check_off_counts(model);
-  check_ply_header(model);
-  check_3ds(model);
+// The import proper: assimp and the Builder, in whatever process runs it.
+void import_model(const std::filesystem::path& model, double length_scale, Scene& scene) {
   Assimp::Importer importer;
   // The reference frame is the file's own coordinates: no up-axis conversion.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
@@ -596,6 +588,187 @@ void load_model(const std::filesystem::path& model, double length_scale, Scene& 
   scene.nodes.clear();
   scene.parts.clear();
   Builder(*ai, model, length_scale, scene).build();
+}
+
+// What the import hands back from its child process: the part tree, the
+// meshes and the warnings, as flat bytes (same machine, same build).
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "points travel as packed doubles");
+
+class Packer {
+ public:
+  template <class T>
+  void put(const T& value) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    bytes_.append(reinterpret_cast<const char*>(&value), sizeof value);
+  }
+  template <class T>
+  void put_array(const T* data, std::size_t count) {
+    put<std::uint64_t>(count);
+    if (count > 0) bytes_.append(reinterpret_cast<const char*>(data), count * sizeof(T));
+  }
+  void put_string(const std::string& s) { put_array(s.data(), s.size()); }
+  void put_point(const Vec3& v) {
+    for (int k = 0; k < 3; ++k) put<double>(v[k]);
+  }
+  void put_points(const std::vector<Vec3>& points) {  // Vec3: three packed doubles
+    put_array(points.empty() ? nullptr : points.data()->data(), 3 * points.size());
+  }
+  std::string take() { return std::move(bytes_); }
+
+ private:
+  std::string bytes_;
+};
+
+class Unpacker {
+ public:
+  Unpacker(std::string_view bytes, const std::filesystem::path& file) : bytes_(bytes), file_(file) {}
+  template <class T>
+  T get() {
+    static_assert(std::is_trivially_copyable_v<T>);
+    T value;
+    need(sizeof value);
+    std::memcpy(&value, bytes_.data() + at_, sizeof value);
+    at_ += sizeof value;
+    return value;
+  }
+  Vec3 get_point() {
+    Vec3 v;
+    for (int k = 0; k < 3; ++k) v[k] = get<double>();
+    return v;
+  }
+  void get_points(std::vector<Vec3>& out) {
+    const auto count = get<std::uint64_t>();
+    if (count % 3 != 0 || count > (bytes_.size() - at_) / sizeof(double)) damaged();
+    out.resize(count / 3);
+    if (count > 0) std::memcpy(out.data()->data(), bytes_.data() + at_, count * sizeof(double));
+    at_ += count * sizeof(double);
+  }
+  template <class T>
+  void get_array(std::vector<T>& out) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto count = get<std::uint64_t>();
+    if (count > (bytes_.size() - at_) / sizeof(T)) damaged();
+    out.resize(count);
+    if (count > 0) std::memcpy(out.data(), bytes_.data() + at_, count * sizeof(T));
+    at_ += count * sizeof(T);
+  }
+  std::string get_string() {
+    std::vector<char> chars;
+    get_array(chars);
+    return std::string(chars.begin(), chars.end());
+  }
+  bool done() const { return at_ == bytes_.size(); }
+  [[noreturn]] void damaged() const { fail(file_, "cannot read model: the importer's result is damaged"); }
+
+ private:
+  void need(std::size_t n) const {
+    if (n > bytes_.size() - at_) damaged();
+  }
+  std::string_view bytes_;
+  std::filesystem::path file_;
+  std::size_t at_ = 0;
+};
+
+std::string pack(const Scene& scene) {
+  Packer p;
+  p.put<std::uint64_t>(scene.nodes.size());
+  for (const Node& n : scene.nodes) {
+    p.put_string(n.name);
+    p.put_string(n.path);
+    p.put<std::int32_t>(n.parent);
+    p.put<std::int32_t>(n.part);
+    p.put_array(n.children.data(), n.children.size());
+    p.put_point(n.origin);
+  }
+  p.put<std::uint64_t>(scene.parts.size());
+  for (const Part& part : scene.parts) {
+    p.put_string(part.name);
+    p.put<std::int32_t>(part.node);
+    p.put_points(part.mesh.vertices);
+    p.put_array(part.mesh.triangles.data(), part.mesh.triangles.size());
+  }
+  p.put<std::uint64_t>(scene.warnings.size());
+  for (const std::string& w : scene.warnings) p.put_string(w);
+  return p.take();
+}
+
+// Unpacks into scene and checks what the rest of plancheck relies on (a
+// tree with parents before children, parts and nodes pointing at each
+// other, indices in range, finite vertices) rather than trusting the child.
+void unpack(std::string_view bytes, const std::filesystem::path& file, Scene& scene) {
+  Unpacker u(bytes, file);
+  std::vector<Node> nodes(std::min<std::uint64_t>(u.get<std::uint64_t>(), bytes.size()));
+  for (Node& n : nodes) {
+    n.name = u.get_string();
+    n.path = u.get_string();
+    n.parent = u.get<std::int32_t>();
+    n.part = u.get<std::int32_t>();
+    u.get_array(n.children);
+    n.origin = u.get_point();
+  }
+  std::vector<Part> parts(std::min<std::uint64_t>(u.get<std::uint64_t>(), bytes.size()));
+  for (Part& part : parts) {
+    part.name = u.get_string();
+    part.node = u.get<std::int32_t>();
+    u.get_points(part.mesh.vertices);
+    u.get_array(part.mesh.triangles);
+  }
+  std::vector<std::string> warnings(std::min<std::uint64_t>(u.get<std::uint64_t>(), bytes.size()));
+  for (std::string& w : warnings) w = u.get_string();
+  if (!u.done() || nodes.empty() || parts.empty()) u.damaged();
+  const auto node_count = static_cast<long>(nodes.size()), part_count = static_cast<long>(parts.size());
+  for (long i = 0; i < node_count; ++i) {
+    const Node& n = nodes[i];
+    if ((i == 0) != (n.parent < 0) || n.parent >= i || n.part < -1 || n.part >= part_count) u.damaged();
+    for (int c : n.children)
+      if (c <= i || c >= node_count || nodes[c].parent != i) u.damaged();
+  }
+  for (long i = 0; i < part_count; ++i) {
+    const Part& part = parts[i];
+    if (part.node < 0 || part.node >= node_count || nodes[part.node].part != i || part.mesh.triangles.empty())
+      u.damaged();
+    for (const Vec3& v : part.mesh.vertices)
+      if (!v.allFinite()) u.damaged();
+    for (const Tri& t : part.mesh.triangles)
+      for (auto index : t)
+        if (index >= part.mesh.vertices.size()) u.damaged();
+  }
+  scene.nodes = std::move(nodes);
+  scene.parts = std::move(parts);
+  for (std::string& w : warnings) scene.warnings.push_back(std::move(w));
+}
+
+}  // namespace
+
+void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
+                const IsolationLimits& limits) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(model, ec)) fail(model, "cannot open model file (missing or not a file)");
+  {
+    std::ifstream probe(model, std::ios::binary);
+    if (!probe) fail(model, "cannot open model file");
+    if (probe.peek() == std::ifstream::traits_type::eof()) fail(model, "cannot read model: the file is empty");
+  }
+  check_off_counts(model);
+  check_ply_header(model);
+  check_3ds(model);
+  std::string packed;
+  try {
+    packed = run_isolated(
+        [&] {
+          Scene imported;
+          import_model(model, length_scale, imported);
+          return pack(imported);
+        },
+        limits);
+  } catch (const IsolationError& e) {
+    fail(model, std::string("cannot read model: the importer ") + e.what());
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    fail(model, std::string("cannot read model: ") + e.what());
+  }
+  unpack(packed, model, scene);
 }
 
 }  // namespace plancheck

@@ -2,6 +2,7 @@
 // Model file (anything assimp reads) -> part tree and triangle meshes.
 #pragma once
 
+#include "src/isolate.h"
 #include "src/scene.h"
 
 #include <filesystem>
@@ -13,6 +14,10 @@ namespace plancheck {
 // length_scale (metres per unit). 3ds per-mesh child nodes ("Object_3") are
 // folded into their object. Throws InputError on an unreadable, empty or
 // malformed model and on duplicate part names (naming both paths).
-void load_model(const std::filesystem::path& model, double length_scale, Scene& scene);
+// assimp runs in a child process under `limits` (src/isolate.h): a crash, hang
+// or memory bomb in it becomes an InputError naming the file, and what the
+// child hands back is checked before it is used.
+void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
+                const IsolationLimits& limits = {});
 
 }  // namespace plancheck

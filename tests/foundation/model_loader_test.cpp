@@ -15,6 +15,7 @@
 #include <future>
 #include <cstdint>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <map>
 #include <regex>
@@ -685,6 +686,61 @@ TEST(ModelLoaderErrors, DuplicatePartNamesNameBothPaths) {
                                                                 {.name = "Link", .parent = 0, .box = true}});
   Scene s;
   testing::expect_input_error([&] { load_model(file, 1.0, s); }, {"dup.gltf", "Link", "/world/arm/Link", "/world/Link"});
+}
+
+// Every file assimp ships (its test models, valid and invalid, in every
+// format and none) through the isolated import: each one either loads or
+// ends in an InputError naming it; whatever assimp does inside, the test
+// process goes on. Those that load give exactly what the same import gives
+// in this process.
+TEST(ModelLoaderIsolation, EveryShippedFileLoadsOrFailsCleanlyAndMatchesInProcess) {
+  IsolationLimits in_process;
+  in_process.isolate = false;
+  int loaded = 0, refused = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(kAssimpModels)) {
+    if (!entry.is_regular_file()) continue;
+    const auto& file = entry.path();
+    Scene isolated;
+    try {
+      load_model(file, 0.5, isolated);
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(file.string()), std::string::npos) << what;
+      if (what.find("the importer crashed") != std::string::npos || what.find("did not finish") != std::string::npos)
+        std::cout << "contained: " << what << "\n";
+      ++refused;
+      continue;
+    }
+    ++loaded;
+    Scene here;
+    load_model(file, 0.5, here, in_process);
+    ASSERT_EQ(isolated.nodes.size(), here.nodes.size()) << file;
+    for (std::size_t i = 0; i < here.nodes.size(); ++i) {
+      const Node &a = isolated.nodes[i], &b = here.nodes[i];
+      EXPECT_TRUE(a.name == b.name && a.path == b.path && a.parent == b.parent && a.part == b.part &&
+                  a.children == b.children && a.origin == b.origin)
+          << file << " node " << i;
+    }
+    ASSERT_EQ(isolated.parts.size(), here.parts.size()) << file;
+    for (std::size_t i = 0; i < here.parts.size(); ++i) {
+      const Part &a = isolated.parts[i], &b = here.parts[i];
+      EXPECT_TRUE(a.name == b.name && a.node == b.node && a.mesh.vertices == b.mesh.vertices &&
+                  a.mesh.triangles == b.mesh.triangles)
+          << file << " part " << i;
+    }
+    EXPECT_EQ(isolated.warnings, here.warnings) << file;
+  }
+  std::cout << loaded << " files loaded, " << refused << " refused\n";
+  EXPECT_GE(loaded, 150);
+  EXPECT_GE(refused, 100);
+}
+
+TEST(ModelLoaderIsolation, AnImporterOverItsTimeIsAnInputErrorNamingTheFile) {
+  IsolationLimits limits;
+  limits.seconds = 0;
+  Scene s;
+  testing::expect_input_error([&] { load_model(kAssimpModels / "OBJ" / "box.obj", 1.0, s, limits); },
+                              {"box.obj", "cannot read model: the importer did not finish within 0 s"});
 }
 
 }  // namespace

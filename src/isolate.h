@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+// Running untrusted parsing in a child process. assimp reads dozens of
+// formats and is fuzzed in the wild; crashes, hangs and memory bombs in it
+// are found faster than they are fixed (our own fuzzing found four, and the
+// CI's fuzz run a fifth that crashed the process). A model file is input, and
+// bad input must end in one clear message and exit status 2, never a crash
+// or a hang. So the import runs in a forked child with a time limit and
+// (outside sanitizer builds) an address-space limit; the child hands back a
+// flat byte string over a pipe, and whatever happens to the child becomes an
+// IsolationError in the parent.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+namespace plancheck {
+
+struct IsolationLimits {
+  double seconds = 120.0;      // wall clock for the child, then SIGKILL
+  std::size_t memory_mb = 0;   // address space the child may add; 0: half the machine's memory
+  bool isolate = true;         // false: run `work` in this process (tests compare both)
+};
+
+// The child did not hand back a result: killed by a signal, over its time,
+// or exited without a result. what() reads as a phrase after "the importer",
+// e.g. "crashed (signal 11, Segmentation fault)".
+class IsolationError : public std::runtime_error {
+ public:
+  explicit IsolationError(const std::string& what) : std::runtime_error(what) {}
+};
+
+// Runs `work` in a forked child and returns what it returned. An InputError
+// thrown by `work` is rethrown here as an InputError with the same message;
+// any other exception as std::runtime_error with its what(). If the process
+// cannot fork, `work` runs in this process.
+std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits = {});
+
+}  // namespace plancheck

@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: MIT
+// run_isolated: whatever the child does (returns, throws, crashes, hangs,
+// exits, eats memory), the parent gets the result or one exception saying
+// what happened, and the parent's own state is untouched by the child.
+#include "src/isolate.h"
+
+#include "src/error.h"
+
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace plancheck {
+namespace {
+
+template <class E>
+std::string message_of(const std::function<std::string()>& work, const IsolationLimits& limits = {}) {
+  try {
+    run_isolated(work, limits);
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "<nothing thrown>";
+}
+
+TEST(Isolate, ReturnsTheChildsBytesWhole) {
+  // Larger than a pipe's buffer many times over, every byte value present.
+  std::string expected(20 << 20, '\0');
+  for (std::size_t i = 0; i < expected.size(); ++i) expected[i] = static_cast<char>((i * 2654435761u) >> 13);
+  EXPECT_EQ(run_isolated([&] { return expected; }), expected);
+  EXPECT_EQ(run_isolated([] { return std::string(); }), "");
+}
+
+TEST(Isolate, TheChildCannotChangeTheParent) {
+  int touched = 0;
+  run_isolated([&] {
+    touched = 1;
+    return std::string("x");
+  });
+  EXPECT_EQ(touched, 0);
+  IsolationLimits in_process;
+  in_process.isolate = false;
+  run_isolated(
+      [&] {
+        touched = 1;
+        return std::string("x");
+      },
+      in_process);
+  EXPECT_EQ(touched, 1);
+}
+
+TEST(Isolate, ExceptionsComeBackWithTheirMessages) {
+  EXPECT_EQ(message_of<InputError>([]() -> std::string { throw InputError("model.obj:3: bad face"); }),
+            "model.obj:3: bad face");
+  const std::string other = message_of<std::runtime_error>([]() -> std::string { throw std::logic_error("odd"); });
+  EXPECT_EQ(other, "odd");
+}
+
+TEST(Isolate, CrashesAreReportedWithTheirSignal) {
+  const std::string segv = message_of<IsolationError>([]() -> std::string {
+    std::raise(SIGSEGV);
+    return "survived";
+  });
+  EXPECT_NE(segv.find("crashed (signal 11"), std::string::npos) << segv;
+  const std::string abrt = message_of<IsolationError>([]() -> std::string { std::abort(); });
+  EXPECT_NE(abrt.find("crashed (signal 6"), std::string::npos) << abrt;
+}
+
+TEST(Isolate, AHangIsKilledAtTheLimit) {
+  IsolationLimits limits;
+  limits.seconds = 0.5;
+  const std::string hang = message_of<IsolationError>(
+      []() -> std::string {
+        for (;;) ::pause();
+      },
+      limits);
+  EXPECT_EQ(hang, "did not finish within 0.5 s");
+}
+
+TEST(Isolate, AnExitWithoutAResultIsReported) {
+  const std::string exited = message_of<IsolationError>([]() -> std::string { std::_Exit(5); });
+  EXPECT_EQ(exited, "exited with status 5 without a result");
+}
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+
+TEST(Isolate, MemoryBeyondTheBudgetIsRefused) {
+  if (kSanitized) GTEST_SKIP() << "no address-space limit under sanitizers (their shadow memory)";
+  IsolationLimits limits;
+  limits.memory_mb = 256;
+  const std::string oom = message_of<std::runtime_error>(
+      []() -> std::string {
+        std::vector<std::vector<char>> hog;
+        for (int i = 0; i < 64; ++i) hog.emplace_back(std::size_t{64} << 20, 'x');  // 4 GB in all
+        return std::to_string(hog.size());
+      },
+      limits);
+  EXPECT_EQ(oom, "ran out of memory (limit 256 MB)");
+}
+
+}  // namespace
+}  // namespace plancheck
