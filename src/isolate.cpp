@@ -114,68 +114,102 @@ std::string seconds_text(double seconds) {
   return text;
 }
 
+// The child's last words: the last non-blank line it wrote to stderr
+// (assimp's "ai_assert failure in ..."), cut to a readable length.
+std::string last_line(const std::string& text) {
+  std::size_t end = text.find_last_not_of(" \t\r\n");
+  if (end == std::string::npos) return {};
+  const std::size_t newline = text.rfind('\n', end);
+  const std::size_t begin = newline == std::string::npos ? 0 : newline + 1;
+  std::string line = text.substr(begin, end + 1 - begin);
+  if (line.size() > 300) line = line.substr(0, 297) + "...";
+  return line;
+}
+
 }  // namespace
 
 std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits) {
   if (!limits.isolate) return work();
-  int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) return work();
-  ::fcntl(fds[0], F_SETPIPE_SZ, 1 << 20);  // fewer round trips for a big model; best effort
+  int out_fds[2], err_fds[2];
+  if (::pipe2(out_fds, O_CLOEXEC) != 0) return work();
+  if (::pipe2(err_fds, O_CLOEXEC) != 0) {
+    ::close(out_fds[0]);
+    ::close(out_fds[1]);
+    return work();
+  }
+  ::fcntl(out_fds[0], F_SETPIPE_SZ, 1 << 20);  // fewer round trips for a big model; best effort
   const pid_t pid = ::fork();
   if (pid < 0) {
-    ::close(fds[0]);
-    ::close(fds[1]);
+    for (int fd : {out_fds[0], out_fds[1], err_fds[0], err_fds[1]}) ::close(fd);
     return work();
   }
   if (pid == 0) {
-    ::close(fds[0]);
-    child_main(fds[1], work, limits);
+    ::close(out_fds[0]);
+    ::close(err_fds[0]);
+    ::dup2(err_fds[1], STDERR_FILENO);
+    child_main(out_fds[1], work, limits);
   }
-  ::close(fds[1]);
+  ::close(out_fds[1]);
+  ::close(err_fds[1]);
 
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                            std::chrono::duration<double>(std::max(0.0, limits.seconds)));
-  std::string out;
+  std::string out, err;
   bool timed_out = false, read_failed = false;
+  pollfd fds[2] = {{out_fds[0], POLLIN, 0}, {err_fds[0], POLLIN, 0}};
+  std::string* sinks[2] = {&out, &err};
   char buffer[1 << 16];
-  for (;;) {
+  while (fds[0].fd >= 0 || fds[1].fd >= 0) {
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
     if (left <= 0) {
       timed_out = true;
       break;
     }
-    pollfd p{fds[0], POLLIN, 0};
-    const int ready = ::poll(&p, 1, static_cast<int>(std::min<long long>(left, INT_MAX)));
+    const int ready = ::poll(fds, 2, static_cast<int>(std::min<long long>(left, INT_MAX)));
     if (ready < 0 && errno == EINTR) continue;
     if (ready < 0) {
       read_failed = true;
       break;
     }
-    if (ready == 0) continue;
-    const ssize_t n = ::read(fds[0], buffer, sizeof buffer);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) read_failed = true;
-    if (n <= 0) break;  // end of file: the child is exiting
-    out.append(buffer, static_cast<std::size_t>(n));
+    for (int i = 0; i < 2; ++i) {
+      if (fds[i].fd < 0 || fds[i].revents == 0) continue;
+      const ssize_t n = ::read(fds[i].fd, buffer, sizeof buffer);
+      if (n < 0 && errno == EINTR) continue;
+      if (n > 0) {
+        // stderr is kept to its last 64 KB: only its end is ever shown.
+        sinks[i]->append(buffer, static_cast<std::size_t>(n));
+        if (i == 1 && err.size() > (1 << 17)) err.erase(0, err.size() - (1 << 16));
+        continue;
+      }
+      if (n < 0 && i == 0) read_failed = true;
+      ::close(fds[i].fd);  // end of file: the child is exiting
+      fds[i].fd = -1;
+    }
+    if (read_failed) break;
   }
-  ::close(fds[0]);
+  for (const pollfd& p : fds)
+    if (p.fd >= 0) ::close(p.fd);
   if (timed_out || read_failed) ::kill(pid, SIGKILL);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
   }
 
-  if (timed_out) throw IsolationError("did not finish within " + seconds_text(limits.seconds) + " s");
+  const std::string said = last_line(err);
+  const std::string because = said.empty() ? std::string() : ": " + said;
+  if (timed_out) throw IsolationError("did not finish within " + seconds_text(limits.seconds) + " s" + because);
   if (WIFSIGNALED(status)) {
     const int sig = WTERMSIG(status);
     const char* name = ::strsignal(sig);
     std::string what = "crashed (signal " + std::to_string(sig) + ", " + (name ? name : "unknown") + ")";
     if (sig == SIGKILL) what += "; the system may have run out of memory";
-    throw IsolationError(what);
+    throw IsolationError(what + because);
   }
   if (read_failed || !WIFEXITED(status) || WEXITSTATUS(status) != 0 || out.empty())
     throw IsolationError("exited with status " + std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
-                         " without a result");
+                         " without a result" + because);
+  // A child that worked but said something: pass it on, not hide it.
+  if (!err.empty()) (void)!::write(STDERR_FILENO, err.data(), err.size());
   const char tag = out[0];
   out.erase(0, 1);
   if (tag == kInputError) throw InputError(out);

@@ -10,6 +10,7 @@
 
 #include <csignal>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -68,6 +69,15 @@ TEST(Isolate, CrashesAreReportedWithTheirSignal) {
   EXPECT_NE(segv.find("crashed (signal 11"), std::string::npos) << segv;
   const std::string abrt = message_of<IsolationError>([]() -> std::string { std::abort(); });
   EXPECT_NE(abrt.find("crashed (signal 6"), std::string::npos) << abrt;
+}
+
+TEST(Isolate, TheLastLineTheChildWroteToStderrSaysWhy) {
+  const std::string why = message_of<IsolationError>([]() -> std::string {
+    std::fputs("reading header\nassert failed: count <= size  \n\n", stderr);
+    std::abort();
+  });
+  EXPECT_NE(why.find("crashed (signal 6, Aborted): assert failed: count <= size"), std::string::npos) << why;
+  EXPECT_EQ(why.find("reading header"), std::string::npos) << why;
 }
 
 TEST(Isolate, AHangIsKilledAtTheLimit) {

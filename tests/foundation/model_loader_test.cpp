@@ -735,6 +735,18 @@ TEST(ModelLoaderIsolation, EveryShippedFileLoadsOrFailsCleanlyAndMatchesInProces
   EXPECT_GE(refused, 100);
 }
 
+// Found by fuzz_model in CI: Debian's assimp 5.2 keeps its internal asserts,
+// and a 447-byte binary PLY (12 faces over one vertex) trips the one in
+// TriangulateProcess, which calls abort(). In this process it would end the
+// run; through the child it is one InputError.
+TEST(ModelLoaderIsolation, AnAssimpAbortIsAnInputErrorNamingTheFile) {
+  const auto file = std::filesystem::path(PLANCHECK_SOURCE_DIR) / "tests/data/models/assimp-triangulate-abort.ply";
+  Scene s;
+  testing::expect_input_error([&] { load_model(file, 1.0, s); },
+                              {"assimp-triangulate-abort.ply", "cannot read model: the importer crashed (signal 6",
+                               "ai_assert failure in ./code/PostProcessing/TriangulateProcess.cpp"});
+}
+
 TEST(ModelLoaderIsolation, AnImporterOverItsTimeIsAnInputErrorNamingTheFile) {
   IsolationLimits limits;
   limits.seconds = 0;
