@@ -63,6 +63,7 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
   if (args.continuous) {
     const auto tc = std::chrono::steady_clock::now();
     options.threads = info.threads;
+    options.dig_carry = args.dig_carry;  // segments see the terrain the states saw
     err << "plancheck: certifying " << (states - plans.size()) << " segments between states\n";
     verify_segments(checker, scene, plans, results, options);
     info.continuous_tolerance = options.tolerance;

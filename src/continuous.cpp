@@ -83,23 +83,42 @@ double SegmentChecker::pair_bound(const std::vector<double>& qa, const std::vect
 }
 
 SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::vector<double>& qb,
-                                    const StateResult& sa, const StateResult& sb) const {
+                                    const StateResult& sa, const StateResult& sb, const Heightfield* terrain,
+                                    bool sb_on_terrain) const {
   SegmentResult out;
   out.checked = true;
   std::map<double, Sample> samples;  // by t; dyadic midpoints repeat exactly between stages
-  samples[0.0] = to_sample(0.0, sa);
-  samples[1.0] = to_sample(1.0, sb);
   StateSeed seed;
+  StateSeed terrain_seed;  // the dug terrain's pairs, as the dig pass seeds them apart
   std::vector<double> q, q2;
   StateResult r;
   bool gave_up = false;
+
+  // One exact check of a configuration into r: the state's semantics on
+  // the segment's terrain.
+  auto exact = [&](const std::vector<double>& at) {
+    if (terrain) {
+      checker_.check_state_without_terrain(at, r, CheckRequest{}, &seed);
+      checker_.check_terrain(at, *terrain, r, &terrain_seed);
+    } else {
+      checker_.check_state(at, r, CheckRequest{}, &seed);
+    }
+    ++out.steps;
+  };
+  samples[0.0] = to_sample(0.0, sa);
+  if (terrain && !sb_on_terrain) {
+    // sb shows qb after its own dig; the motion meets the terrain before it.
+    exact(qb);
+    samples[1.0] = to_sample(1.0, r);
+  } else {
+    samples[1.0] = to_sample(1.0, sb);
+  }
 
   auto sample_at = [&](double t) -> const Sample& {
     auto it = samples.find(t);
     if (it != samples.end()) return it->second;
     interpolate(qa, qb, t, q);
-    checker_.check_state(q, r, CheckRequest{}, &seed);
-    ++out.steps;
+    exact(q);
     return samples.emplace(t, to_sample(t, r)).first->second;
   };
 
@@ -184,12 +203,19 @@ void verify_segments(const Checker& checker, const Scene& scene, const std::vect
                      std::vector<PlanResult>& results, const ContinuousOptions& options) {
   const SegmentChecker segments(checker, scene, options);
   std::vector<std::pair<std::size_t, std::size_t>> items;  // (plan, segment)
+  // Plans whose states saw the dug terrain: their segments see it too.
+  std::vector<char> dug(plans.size(), 0);
+  bool any_dug = false;
   for (std::size_t p = 0; p < plans.size(); ++p) {
     results[p].segments.assign(plans[p].states.size(), SegmentResult{});
+    dug[p] = checker.terrain_is_dug() && results[p].dig.has_value();
+    any_dug = any_dug || dug[p];
+    if (dug[p]) continue;
     for (std::size_t s = 0; s + 1 < plans[p].states.size(); ++s) items.emplace_back(p, s);
   }
   // Segments are independent and each writes only its own slot; a segment's
-  // result depends on nothing but its two states, so not on the thread count.
+  // result depends on nothing but its two states (and the terrain it is
+  // checked against), so not on the thread count.
   parallel_for(items.size(), options.threads, 1, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t i = begin; i < end; ++i) {
       const auto [p, s] = items[i];
@@ -197,6 +223,42 @@ void verify_segments(const Checker& checker, const Scene& scene, const std::vect
       results[p].segments[s] = segments.check(st[s], st[s + 1], results[p].states[s], results[p].states[s + 1]);
     }
   });
+
+  if (any_dug) {
+    // The dig pass again, in its order: segment s waits in its plan's
+    // pending list from state s on, while the field shows the terrain dug
+    // through s, and is checked (with the other waiting segments, in
+    // parallel) before a later state's dig changes the field, or at the end.
+    // No snapshot is kept: one field per plan being walked.
+    std::vector<std::vector<std::size_t>> pending(plans.size());
+    std::vector<const Heightfield*> fields(plans.size(), nullptr);
+    auto flush = [&](std::size_t p, bool last_changed) {
+      auto& list = pending[p];
+      if (list.empty()) return;
+      const auto& st = plans[p].states;
+      parallel_for(list.size(), options.threads, 1, [&](std::size_t begin, std::size_t end, int) {
+        for (std::size_t i = begin; i < end; ++i) {
+          const std::size_t s = list[i];
+          // Only the newest waiting segment's end state dug since (the one
+          // changing the field now); every other's end saw this field.
+          const bool sb_on_terrain = !(last_changed && i + 1 == list.size());
+          results[p].segments[s] = segments.check(st[s], st[s + 1], results[p].states[s],
+                                                  results[p].states[s + 1], fields[p], sb_on_terrain);
+        }
+      });
+      list.clear();
+    };
+    DigWalk walk;
+    walk.before_refit = [&](std::size_t p, std::size_t, const SampleRect& changed) {
+      if (dug[p] && !changed.empty()) flush(p, true);
+    };
+    walk.after_state = [&](std::size_t p, std::size_t s, Heightfield* field) {
+      fields[p] = field;
+      if (dug[p] && field && s + 1 < plans[p].states.size()) pending[p].push_back(s);
+    };
+    walk.after_plan = [&](std::size_t p, DigSummary, std::vector<DigStep>&) { flush(p, false); };
+    dig_along_plans(*checker.digger(), checker.terrain(), plans, options.dig_carry, options.threads, walk);
+  }
 
   for (PlanResult& r : results) {
     for (std::size_t s = 0; s < r.segments.size(); ++s) {

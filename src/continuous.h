@@ -42,6 +42,9 @@ struct ContinuousOptions {
   // violation (unresolved, conservative): a guard against pathological input.
   std::size_t max_steps = 200000;
   int threads = 0;  // 0: all hardware threads
+  // Digging scenes: as VerifyOptions::dig_carry of the verify_plans run
+  // whose results verify_segments extends (the terrain each segment sees).
+  bool dig_carry = false;
 };
 
 // Segment checks on one Checker; immutable, shared by threads.
@@ -51,8 +54,19 @@ class SegmentChecker {
 
   // Checks the segment from qa to qb whose end states were checked as sa and
   // sb (Checker::check_state with distances). Thread-safe.
+  //
+  // terrain (digging scenes): the terrain as it stands during the motion,
+  // dug through qa's state; sa must have been checked against it, as the
+  // dig pass does (check_state_without_terrain, then check_terrain). Every
+  // configuration after qa is checked against it, its terrain pairs with
+  // check_terrain; qb too unless sb_on_terrain says sb was (qb's own dig
+  // changed nothing), since sb shows the terrain after qb's dig and the
+  // motion reaches qb before that dig. The segment is then certified
+  // against `terrain` up to and including qb; qb's state result stays its
+  // own. nullptr: check_state's undisturbed terrain throughout.
   SegmentResult check(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
-                      const StateResult& sb) const;
+                      const StateResult& sb, const Heightfield* terrain = nullptr,
+                      bool sb_on_terrain = false) const;
 
   // Upper bound (m) on how much any checked pair's distance can change while
   // the parameters go linearly from qa to qb: the largest sum of the two
@@ -73,6 +87,12 @@ class SegmentChecker {
 // Fills results[p].segments for every plan (results from verify_plans) and
 // merges the first violation between states into each plan's verdict: the
 // order is state s's own violation, then segment s, then state s + 1.
+// Digging scenes whose states saw the dug terrain (the dig pass ran:
+// results[p].dig is set and Checker::terrain_is_dug()): segment s is checked
+// against the terrain as dug through state s (and through the earlier plans
+// with options.dig_carry, which must match the verify_plans run), walked
+// again in the dig pass's order (dig_along_plans); only those scenes pay for
+// it. Segments that see the same terrain are checked in parallel.
 void verify_segments(const Checker& checker, const Scene& scene, const std::vector<Plan>& plans,
                      std::vector<PlanResult>& results, const ContinuousOptions& options);
 
