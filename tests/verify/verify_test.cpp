@@ -2,6 +2,7 @@
 // End to end on a scene whose distance has a closed form: a 2 m bar pitching
 // about a horizontal axis 1 m above a wide slab. Every verdict kind, the exit
 // status, the report files and thread-count invariance.
+#include "support/bar_scene.h"
 #include "support/fixtures.h"
 
 #include <gtest/gtest.h>
@@ -19,29 +20,10 @@ using testing::read_text;
 using testing::write_text;
 
 const std::string kPlancheck = std::string(PLANCHECK_BINARY_DIR) + "/plancheck";
-constexpr double kPi = 3.14159265358979323846;
 
-// Slab top at z = 0 over x in [-3, 3]; bar [0, 2] x [-0.1, 0.1] x [0.9, 1.1]
-// turning about +y through (0, 0, 1). A positive angle a tilts the bar's free
-// end down; its lowest corner then sits at z = 1 - 2 sin a - h cos a, over
-// the slab's top face, so that is the distance (vertex to face). assimp reads
-// OBJ coordinates in single precision, so the bar's underside is float(0.9),
-// h = 1 - float(0.9); 2, 1 and 0 are exact in float.
-double bar_distance(double deg) {
-  const double a = deg * kPi / 180.0;
-  const double h = 1.0 - static_cast<double>(0.9f);
-  return 1.0 - 2.0 * std::max(0.0, std::sin(a)) - h * std::cos(a);
-}
-
-void write_scene(const TempDir& dir) {
-  testing::write_obj(dir / "model.obj", {{"Slab", testing::box_mesh({-3, -1, -1}, {3, 1, 0})},
-                                         {"Bar", testing::box_mesh({0, -0.1, 0.9}, {2, 0.1, 1.1})}});
-  write_text(dir / "scene.json", R"({
-  "format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m", "angle_unit": "deg",
-  "actions": [{"name": "J1", "node": "Bar", "type": "rotate", "pivot": [0, 0, 1], "axis": [0, 1, 0], "limits": [-90, 30]}],
-  "safety_margin": 0.05
-})");
-}
+// The bar-on-slab scene and its closed-form distance: tests/support/bar_scene.h.
+using testing::bar_distance;
+void write_scene(const TempDir& dir) { testing::write_bar_scene(dir); }
 
 std::string plan_text(const std::string& name, const std::vector<double>& angles, const std::string& extra = "") {
   std::ostringstream s;
