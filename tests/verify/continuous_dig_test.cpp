@@ -273,10 +273,18 @@ TEST(ContinuousDig, DenseSamplingOnTheDugTerrainAgrees) {
         prev_q = q;
         prev_d = d;
       }
-      if (collision) EXPECT_TRUE(g.collision);
-      if (min_sampled < kMargin) EXPECT_TRUE(g.clearance || g.collision) << min_sampled;
-      if (lower >= kMargin + tol) EXPECT_FALSE(g.clearance || g.collision) << lower;
-      if (!collision && lower > ContinuousOptions{}.contact_tolerance) EXPECT_FALSE(g.collision);
+      if (collision) {
+        EXPECT_TRUE(g.collision);
+      }
+      if (min_sampled < kMargin) {
+        EXPECT_TRUE(g.clearance || g.collision) << min_sampled;
+      }
+      if (lower >= kMargin + tol) {
+        EXPECT_FALSE(g.clearance || g.collision) << lower;
+      }
+      if (!collision && lower > ContinuousOptions{}.contact_tolerance) {
+        EXPECT_FALSE(g.collision);
+      }
       EXPECT_LE(g.lower_bound, min_sampled);
       EXPECT_GE(g.min_sampled, lower - 1e-12);
       (g.clearance || g.collision ? flagged : safe) += 1;
