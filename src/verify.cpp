@@ -14,6 +14,11 @@ namespace plancheck {
 
 namespace {
 
+// Relative tolerance of the coarse pass that seeds a cold state's distance
+// search (check_pairs). Measured on the default plans, states checked each
+// from cold: 0.1 gains a third, 0.3 to 3 gain 58% and differ by noise.
+constexpr double kProbeTolerance = 1.0;
+
 struct Box {
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
   Vec3 hi = Vec3::Constant(-std::numeric_limits<double>::infinity());
@@ -415,12 +420,6 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     order.resize(pairs_.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return lower[x] < lower[y]; });
-    // The seed's pair first: its bound then prunes every other pair.
-    if (seed && seed->pair >= 0 && static_cast<std::size_t>(seed->pair) < pairs_.size() &&
-        std::isfinite(lower[static_cast<std::size_t>(seed->pair)])) {
-      const auto it = std::find(order.begin(), order.end(), static_cast<std::size_t>(seed->pair));
-      std::rotate(order.begin(), it, it + 1);
-    }
   }
   StateSeed hint;
   if (seed) {
@@ -428,6 +427,42 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     hint.slot_a = seed->slot_a;
     hint.slot_b = seed->slot_b;
     seed->pair = -1;
+  }
+  auto usable = [&](const StateSeed& h) {
+    return h.pair >= 0 && static_cast<std::size_t>(h.pair) < pairs_.size() &&
+           std::isfinite(lower[static_cast<std::size_t>(h.pair)]);
+  };
+  if (!out.collision && !usable(hint) && request.rel_tolerance < kProbeTolerance) {
+    // A cold start (no previous state's pair to try first). Part boxes order
+    // the pairs poorly, and every pair searched under a loose bound costs
+    // several times a seeded search, so a coarse pass first finds a pair
+    // within a factor (1 + kProbeTolerance) of the closest, at a fraction of
+    // the cost (a third of a cold state's time on the default plans). Only its
+    // triangle pair is kept, as the hint a previous state would have given:
+    // the exact pass below decides everything, as from any other seed.
+    double best = out.min_distance;
+    const double coarse = 1.0 / (1.0 + kProbeTolerance);
+    for (std::size_t k : order) {
+      if (lower[k] >= best * coarse) break;
+      const auto [a, b] = pairs_[k];
+      DistanceRequest q{best, kProbeTolerance, 0.0};
+      DistanceResult r;
+      if (b == terrain_index_)
+        distance(models_[a], *pose[a], *terrain, q, r);
+      else
+        distance(models_[a], *pose[a], models_[b], *pose[b], q, r);
+      if (r.found && r.distance < best) {
+        best = r.distance;
+        hint.pair = static_cast<int>(k);
+        hint.slot_a = r.slot_a;
+        hint.slot_b = r.slot_b;
+      }
+    }
+  }
+  // The hinted pair first: its bound then prunes every other pair.
+  if (!out.collision && usable(hint)) {
+    const auto it = std::find(order.begin(), order.end(), static_cast<std::size_t>(hint.pair));
+    std::rotate(order.begin(), it, it + 1);
   }
   // Largest coordinate of a part's boxes, world and own frame (the terrain:
   // its pyramid's root box): what the double distance's rounding scales with.

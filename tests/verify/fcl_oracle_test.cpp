@@ -2,6 +2,10 @@
 // The default Chang'e-5-like scene against FCL 0.7 as an independent oracle:
 // random states within the joint limits and states bisected to within 1e-6 m
 // of first contact. Collision flags must be equal, distances within 1e-9 m.
+// Also the search's starting points: a plan's states checked in order, each
+// seeded by the one before (or from cold, by the coarse pass), and arbitrary
+// seeds, give what a cold check gives, to within the tie tolerance.
+#include "src/plan.h"
 #include "src/scene_loader.h"
 #include "src/terrain.h"
 #include "src/verify.h"
@@ -9,6 +13,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <random>
@@ -128,6 +133,91 @@ TEST(FclOracle, StatesBisectedToFirstContactAgree) {
   std::cout << "[ agreement ] " << found << " first contacts bisected: " << 2 * found << " states\n";
   EXPECT_GE(found, 50);
   EXPECT_EQ(collisions, found);
+}
+
+// What a seed can change: which of pairs tied within kDistanceTieTolerance is
+// reported, so the distance by at most that much; never a collision flag.
+void expect_same_answer(const StateResult& got, const StateResult& cold, const std::string& what) {
+  ASSERT_EQ(got.collision, cold.collision) << what;
+  if (cold.collision) return;
+  EXPECT_NEAR(got.min_distance, cold.min_distance, 2 * kDistanceTieTolerance) << what;
+  EXPECT_NEAR((got.point_a - got.point_b).norm(), got.min_distance, 1e-12) << what;
+  if (got.part_a != cold.part_a || got.part_b != cold.part_b) {
+    EXPECT_LE(std::abs(got.min_distance - cold.min_distance), kDistanceTieTolerance) << what << ": other pair";
+  }
+}
+
+TEST(FclOracle, PlansCheckedInSeededRunsAgree) {
+  if (!std::filesystem::exists(kScene)) GTEST_FAIL() << "run `make dataset` first: " << kScene;
+  Fixture& f = fixture();
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(kScene.parent_path() / "plans")) files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  std::vector<Plan> plans;
+  for (const auto& file : files) plans.push_back(load_plan(f.scene, file));
+  ASSERT_EQ(plans.size(), 10u);
+  // Collision and distance only: the terrain stays as FCL sees it (undug).
+  const auto results = verify_plans(*f.checker, f.scene, plans, VerifyOptions{2, false, false});
+  std::size_t states = 0;
+  int collisions = 0;
+  for (std::size_t p = 0; p < plans.size(); ++p)
+    for (std::size_t s = 0; s < plans[p].states.size(); ++s, ++states) {
+      const std::string what = plans[p].name + " state " + std::to_string(s);
+      StateResult cold;
+      f.checker->check_state(plans[p].states[s], cold);
+      expect_same_answer(results[p].states[s], cold, what);
+      if (::testing::Test::HasFatalFailure()) return;
+      if (cold.collision) ++collisions;
+      // FCL on every 8th state (it takes ~9 ms a state here).
+      if (states % 8 != 0) continue;
+      const auto ref = f.fcl->check(plans[p].states[s]);
+      ASSERT_EQ(results[p].states[s].collision, ref.collision) << what;
+      if (!ref.collision) {
+        EXPECT_NEAR(results[p].states[s].min_distance, ref.distance, 1e-9) << what;
+      }
+    }
+  std::cout << "[ agreement ] " << states << " plan states in seeded runs, " << collisions << " colliding\n";
+  EXPECT_GT(states, 2000u);
+  EXPECT_GT(collisions, 0);
+}
+
+TEST(FclOracle, ArbitrarySeedsChangeNoAnswer) {
+  if (!std::filesystem::exists(kScene)) GTEST_FAIL() << "run `make dataset` first: " << kScene;
+  Fixture& f = fixture();
+  std::mt19937_64 rng(7081);
+  const int pairs = static_cast<int>(f.checker->pairs().size());
+  std::vector<std::vector<double>> states;
+  for (int i = 0; i < 300; ++i) states.push_back(random_state(f.scene, rng));
+  // Valid seeds from other states, and pairs or slots out of range.
+  std::vector<StateSeed> seeds;
+  for (int i = 0; i < 40; ++i) {
+    StateSeed seed;
+    StateResult r;
+    f.checker->check_state(states[static_cast<std::size_t>(i)], r, CheckRequest{}, &seed);
+    seed.separation.clear();  // separations hold only for nearby states
+    seeds.push_back(seed);
+  }
+  for (int i = 0; i < 20; ++i) {
+    StateSeed seed;
+    seed.pair = static_cast<int>(rng() % static_cast<std::uint64_t>(pairs + 3)) - 1;
+    seed.slot_a = static_cast<std::uint32_t>(i % 2 ? rng() % 64 : rng());
+    seed.slot_b = static_cast<std::uint32_t>(i % 3 ? rng() % 64 : rng());
+    seeds.push_back(seed);
+  }
+  int checked = 0;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    StateResult cold;
+    f.checker->check_state(states[i], cold);
+    for (int k = 0; k < 3; ++k) {
+      StateSeed seed = seeds[rng() % seeds.size()];
+      StateResult got;
+      f.checker->check_state(states[i], got, CheckRequest{}, &seed);
+      expect_same_answer(got, cold, "state " + std::to_string(i) + " seeded with pair " + std::to_string(seed.pair));
+      if (::testing::Test::HasFatalFailure()) return;
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 900);
 }
 
 }  // namespace
