@@ -45,9 +45,16 @@ Box posed_box(const Box& local, const Affine& t) {
   return {wc - wh - Vec3::Constant(pad), wc + wh + Vec3::Constant(pad)};
 }
 
-double box_distance(const Box& a, const Box& b) {
-  const Vec3 gap = (a.lo - b.hi).cwiseMax(b.lo - a.hi).cwiseMax(0.0);
-  return gap.norm();
+// Squared distance between two boxes; 0 when they meet. A state computes
+// one per checked pair (over a hundred on the default scene), so this stays
+// a few scalar operations the compiler can inline.
+inline double box_gap2(const Box& a, const Box& b) {
+  double s = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double g = std::max(std::max(a.lo[i] - b.hi[i], b.lo[i] - a.hi[i]), 0.0);
+    s += g * g;
+  }
+  return s;
 }
 
 }  // namespace
@@ -125,6 +132,9 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene), motion_(scene
     for (std::size_t i = begin; i < end; ++i) built[i].emplace(*meshes[i]);
   });
   for (auto& m : built) models_.push_back(std::move(*m));
+  for (PairRef& p : pairs_)
+    p.empty = models_[static_cast<std::size_t>(p.a)].triangle_count() == 0 ||
+              (p.b != terrain_index_ && models_[static_cast<std::size_t>(p.b)].triangle_count() == 0);
   for (const Mesh* m : meshes) {
     const Box b = mesh_box(*m);
     local_boxes_.emplace_back(b.lo, b.hi);
@@ -350,22 +360,24 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // separation does not already prove them apart.
   std::vector<double>& lower = scratch.lower;
   lower.assign(pairs_.size(), 0.0);
+  // The box gap as a lower bound: a distance when distances are asked for,
+  // else only its sign matters (no square root).
+  auto gap = [&](const Box& x, const Box& y) {
+    const double g2 = box_gap2(x, y);
+    return request.distance && g2 > 0.0 ? std::sqrt(g2) : g2;
+  };
+  const bool terrain_live = terrain && terrain->triangle_count() > 0;
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
-    const auto [a, b] = pairs_[k];
+    const auto [a, b, empty] = pairs_[k];
     const bool on_terrain = b == terrain_index_;
     // Pairs outside `which`, and a part whose triangles were all left out
     // (an empty, inverted box), take no part.
-    if (on_terrain ? (which == kNonTerrainPairs || !terrain || terrain->triangle_count() == 0)
-                   : which == kTerrainPairs) {
-      lower[k] = std::numeric_limits<double>::infinity();
-      continue;
-    }
-    if (models_[a].triangle_count() == 0 || (!on_terrain && models_[b].triangle_count() == 0)) {
+    if (empty || (on_terrain ? (which == kNonTerrainPairs || !terrain_live) : which == kTerrainPairs)) {
       lower[k] = std::numeric_limits<double>::infinity();
       continue;
     }
     if (on_terrain) {
-      lower[k] = std::max(box_distance(box[a], terrain_box), carried[k]);
+      lower[k] = std::max(gap(box[a], terrain_box), carried[k]);
       if (lower[k] > 0.0) continue;
       CollideResult r;
       collide(models_[a], *pose[a], *terrain, CollideRequest{kMaxTrianglePairsListed}, r);
@@ -376,7 +388,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
       continue;
     }
-    lower[k] = std::max(box_distance(box[a], box[b]), carried[k]);
+    lower[k] = std::max(gap(box[a], box[b]), carried[k]);
     if (lower[k] > 0.0) continue;
     CollideResult r;
     collide(models_[a], *pose[a], models_[b], *pose[b], CollideRequest{request.max_triangle_pairs}, r);
@@ -393,6 +405,10 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   }
   out.collision = !out.contacts.empty();
   out.limit_action = first_limit_violation(scene_, params);
+  if (!request.distance) {
+    if (seed) seed->separation.clear();
+    return;
+  }
   // What this state proves for the next: each pair's lower bound, raised
   // below where a distance search settles it. Pairs outside `which` (an
   // infinite bound) prove nothing.
@@ -404,10 +420,6 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     seed->separation.assign(proven.begin(), proven.end());
     seed->at.assign(params.begin(), params.end());
   };
-  if (!request.distance) {
-    if (seed) seed->separation.clear();
-    return;
-  }
 
   // Minimum distance: pairs in order of their box lower bound, the best so
   // far pruning the rest; a colliding state needs only a common point.
@@ -444,7 +456,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     const double coarse = 1.0 / (1.0 + kProbeTolerance);
     for (std::size_t k : order) {
       if (lower[k] >= best * coarse) break;
-      const auto [a, b] = pairs_[k];
+      const int a = pairs_[k].a, b = pairs_[k].b;
       DistanceRequest q{best, kProbeTolerance, 0.0};
       DistanceResult r;
       if (b == terrain_index_)
@@ -482,7 +494,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       if (seeded) continue;
       break;
     }
-    const auto [a, b] = pairs_[k];
+    const int a = pairs_[k].a, b = pairs_[k].b;
     DistanceRequest q{out.min_distance, request.rel_tolerance, kDistanceTieTolerance};
     if (seeded) {
       q.seed_slot_a = hint.slot_a;

@@ -227,6 +227,7 @@ class Checker {
  private:
   struct PairRef {
     int a, b;
+    bool empty = false;  // a part whose triangles were all left out: never checked
   };
   enum PairSet { kAllPairs, kNonTerrainPairs, kTerrainPairs };
   // The pair loop of check_state over `which` pairs, terrain pairs against
