@@ -323,6 +323,7 @@ void compute_node_obbs(CollisionModelData& data) {
       o.center[k] = c[k];
       o.half[k] += margin;
     }
+    o.radius = std::sqrt(o.half[0] * o.half[0] + o.half[1] * o.half[1] + o.half[2] * o.half[2]);
   }
 }
 

@@ -60,13 +60,14 @@ float round_up(double x);
 // principal components of the node's vertices (as in Gottschalk, Lin and
 // Manocha, "OBBTree", 1996), extents from projecting every vertex of the
 // node's triangles, widened to cover the rounding of those projections.
-// 15 doubles, 120 bytes per node; doubles so the axes are orthonormal to
+// 16 doubles, 128 bytes per node; doubles so the axes are orthonormal to
 // rounding and no float re-rounding is needed. They give tight bounds on
 // curved surfaces, where axis-aligned boxes of tilted patches are thick.
 struct NodeObb {
   double axis[9];    // rows: orthonormal axes, part frame
   double center[3];  // part frame
   double half[3];    // half extents along the axes (m)
+  double radius;     // |half|, computed as sqrt(h0 h0 + h1 h1 + h2 h2): the ball test's radius
 };
 
 // Collision structure of one part, all in the part's reference frame.

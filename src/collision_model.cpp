@@ -157,16 +157,42 @@ struct Setup {
   struct ObbPair {
     double r[9], abs_r[9], t[3], dist_centres, tol;
   };
-  void obb_pair(std::uint32_t ia, std::uint32_t ib, ObbPair& p) const {
-    const NodeObb& oa = a.data->obbs[ia];
-    const NodeObb& ob = b.data->obbs[ib];
+  // b's node ib in the working frame: its centre, and its axes once asked
+  // for. A traversal step that splits a tests both children against the same
+  // b node, and the ball test and the box test both need the centre, so one
+  // mapping serves them all (the same operations, so the same values).
+  struct MappedB {
+    std::uint32_t node = 0;
+    double cb[3];
+    double bw[9];
+    bool axes = false;
+  };
+  void map_b(std::uint32_t ib, MappedB& mb) const {
+    mb.node = ib;
+    mb.axes = false;
+    b.map.apply(b.data->obbs[ib].center, mb.cb);
+  }
+  void map_b_axes(MappedB& mb) const {
+    if (mb.axes) return;
+    const NodeObb& ob = b.data->obbs[mb.node];
     const AffineMap& m = b.map;
-    double bw[9], cb[3];
     for (int j = 0; j < 3; ++j)  // b's axes in the working frame: rows of (L B^T)^T
       for (int r = 0; r < 3; ++r)
-        bw[3 * j + r] = m.l[3 * r] * ob.axis[3 * j] + m.l[3 * r + 1] * ob.axis[3 * j + 1] +
-                        m.l[3 * r + 2] * ob.axis[3 * j + 2];
-    m.apply(ob.center, cb);
+        mb.bw[3 * j + r] = m.l[3 * r] * ob.axis[3 * j] + m.l[3 * r + 1] * ob.axis[3 * j + 1] +
+                           m.l[3 * r + 2] * ob.axis[3 * j + 2];
+    mb.axes = true;
+  }
+  void obb_pair(std::uint32_t ia, std::uint32_t ib, ObbPair& p) const {
+    MappedB mb;
+    map_b(ib, mb);
+    obb_pair(ia, mb, p);
+  }
+  void obb_pair(std::uint32_t ia, MappedB& mb, ObbPair& p) const {
+    map_b_axes(mb);
+    const NodeObb& oa = a.data->obbs[ia];
+    const NodeObb& ob = b.data->obbs[mb.node];
+    const double* bw = mb.bw;
+    const double* cb = mb.cb;
     const double d[3] = {cb[0] - oa.center[0], cb[1] - oa.center[1], cb[2] - oa.center[2]};
     for (int i = 0; i < 3; ++i) {
       const double* ai = &oa.axis[3 * i];
@@ -223,11 +249,11 @@ struct Setup {
 
   // Distance lower bound from the boxes' face axes and the centre-to-centre
   // axis (each separating-axis gap bounds the distance from below).
-  double obb_lower(std::uint32_t ia, std::uint32_t ib) const {
+  double obb_lower(std::uint32_t ia, MappedB& mb) const {
     ObbPair p;
-    obb_pair(ia, ib, p);
+    obb_pair(ia, mb, p);
     const double* ha = a.data->obbs[ia].half;
-    const double* hb = b.data->obbs[ib].half;
+    const double* hb = b.data->obbs[mb.node].half;
     const double* R = p.r;
     const double* A = p.abs_r;
     const double* T = p.t;
@@ -576,22 +602,26 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   // Prune a node pair only when its lower bound clears the best distance by
   // more than the rounding of the squared box gaps.
   constexpr double kShrink = 1.0 - 1e-12;
-  auto lower2 = [&](std::uint32_t ia, std::uint32_t ib, double* sizes) {
+  // mb: b's node ib already mapped (Setup::map_b), or nullptr.
+  auto lower2 = [&](std::uint32_t ia, std::uint32_t ib, double* sizes, Setup::MappedB* mb = nullptr) {
     if (s.obb) {
       if (sizes) {
         sizes[0] = s.obb_size(ia, true);
         sizes[1] = s.obb_size(ib, false);
       }
+      Setup::MappedB own;
+      if (!mb) {
+        s.map_b(ib, own);
+        mb = &own;
+      }
       // Balls around the boxes first (centre distance minus circumradii):
       // a tenth of the work of the box bound, and enough to prune most
       // children far beyond the best distance.
       const NodeObb& oa = s.a.data->obbs[ia];
-      const NodeObb& ob = s.b.data->obbs[ib];
-      double cb[3];
-      s.b.map.apply(ob.center, cb);
+      const double* cb = mb->cb;
       const double dx = cb[0] - oa.center[0], dy = cb[1] - oa.center[1], dz = cb[2] - oa.center[2];
-      const double ra = std::sqrt(oa.half[0] * oa.half[0] + oa.half[1] * oa.half[1] + oa.half[2] * oa.half[2]);
-      const double rb = std::sqrt(ob.half[0] * ob.half[0] + ob.half[1] * ob.half[1] + ob.half[2] * ob.half[2]);
+      const double ra = oa.radius;
+      const double rb = s.b.data->obbs[ib].radius;
       const double centres = std::sqrt(dx * dx + dy * dy + dz * dz);
       // Rounding: b's centre mapping (obb_tol) and a few ulps of every term.
       const double tol = s.obb_tol + 1e-12 * (centres + ra + rb + std::abs(cb[0]) + std::abs(cb[1]) +
@@ -599,7 +629,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
                                               std::abs(oa.center[1]) + std::abs(oa.center[2]));
       const double ball = centres - ra - rb - tol;
       if (ball > 0.0 && ball * ball * kShrink >= best2) return ball * ball * kShrink;
-      const double lb = s.obb_lower(ia, ib);
+      const double lb = s.obb_lower(ia, *mb);
       return lb * lb * kShrink;
     }
     double alo[3], ahi[3], blo[3], bhi[3];
@@ -789,8 +819,15 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
     const bool split_a = !x.is_leaf() && (y.is_leaf() || sizes[0] >= sizes[1]);
     NodePair c0, c1;
     if (split_a) {
-      c0 = {x.index, p.b, lower2(x.index, p.b, nullptr)};
-      c1 = {x.index + 1, p.b, lower2(x.index + 1, p.b, nullptr)};
+      // Both children meet the same b node: map it once.
+      Setup::MappedB mb;
+      Setup::MappedB* shared = nullptr;
+      if (s.obb) {
+        s.map_b(p.b, mb);
+        shared = &mb;
+      }
+      c0 = {x.index, p.b, lower2(x.index, p.b, nullptr, shared)};
+      c1 = {x.index + 1, p.b, lower2(x.index + 1, p.b, nullptr, shared)};
     } else {
       c0 = {p.a, y.index, lower2(p.a, y.index, nullptr)};
       c1 = {p.a, y.index + 1, lower2(p.a, y.index + 1, nullptr)};
