@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
+#include "dataset/generated.h"
 
 namespace plancheck {
 namespace {
@@ -74,22 +74,17 @@ class ExpectedVsFcl : public ::testing::Test {
   static void SetUpTestSuite() {
     g_fixture = new Fixture;
     Fixture& f = *g_fixture;
-    f.dir = fs::temp_directory_path() / ("plancheck_expected_fcl_" + std::to_string(static_cast<long>(getpid())));
-    fs::remove_all(f.dir);
-    std::string cmd = std::string("\"") + PLANCHECK_BINARY_DIR + "/generate_change5\" \"" + f.dir.string() + "\"";
-    if (std::system(cmd.c_str()) != 0) return;
+    f.dir = testing::generated_dataset();
+    if (!fs::exists(f.dir / "scene.json")) return;
     f.scene = json::parse(std::ifstream(f.dir / "scene.json"));
     f.expected = json::parse(std::ifstream(f.dir / "expected.json"));
     f.model = f.importer.ReadFile((f.dir / "change5.3ds").string(), 0);
     if (f.model) index_nodes(f.model->mRootNode, f.nodes);
     for (const auto& [name, p] : f.expected["plans"].items()) f.plans[name] = read_rows(f.dir / p["file"].get<std::string>());
   }
-  static void TearDownTestSuite() {
-    fs::remove_all(g_fixture->dir);
-    delete g_fixture;
-  }
+  static void TearDownTestSuite() { delete g_fixture; }
   void SetUp() override {
-    ASSERT_NE(g_fixture->model, nullptr) << "generator or model failed";
+    ASSERT_NE(g_fixture->model, nullptr) << "no generated dataset (fixture DatasetFixture.Generate) or its model did not load";
   }
   Fixture& f() { return *g_fixture; }
 

@@ -147,7 +147,7 @@ void expect_same_answer(const StateResult& got, const StateResult& cold, const s
   }
 }
 
-TEST(FclOracle, PlansCheckedInSeededRunsAgree) {
+TEST(FclOracle, PlansCheckedInSeededRunsOnTwoThreadsAgree) {
   if (!std::filesystem::exists(kScene)) GTEST_FAIL() << "run `make dataset` first: " << kScene;
   Fixture& f = fixture();
   std::vector<std::filesystem::path> files;
