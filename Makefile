@@ -49,11 +49,15 @@ demo: dataset
 
 # Everything CI runs, in this order; each step is also a target of its own.
 # A failing step does not stop the later ones (CI shows every failure), but
-# fails the whole.
+# fails the whole. The time of each stage is printed at the end.
+TEST_STEPS ?= test-release test-asan test-tsan fuzz
 test:
-	@failed=; for step in test-release test-asan test-tsan fuzz; do \
-	  echo "=== make $$step ($$(date +%T))"; $(MAKE) --no-print-directory $$step || failed="$$failed $$step"; \
+	@failed=; times=; t_all=$$(date +%s); for step in $(TEST_STEPS); do \
+	  echo "=== make $$step ($$(date +%T))"; t0=$$(date +%s); \
+	  $(MAKE) --no-print-directory $$step || failed="$$failed $$step"; \
+	  times="$$times$$(printf '  %-13s %5d s' $$step $$(( $$(date +%s) - t0 )))\n"; \
 	done; echo "=== done ($$(date +%T))"; \
+	printf "stage times (make test, %d s in all):\n$$times" $$(( $$(date +%s) - t_all )); \
 	if [ -n "$$failed" ]; then echo "make test: FAILED:$$failed"; exit 1; fi
 
 test-release: dataset
@@ -65,36 +69,25 @@ test-asan: dataset
 	cmake --build $(ASAN_BUILD) -j $(JOBS)
 	cd $(ASAN_BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 3600
 
-# The suites under ThreadSanitizer (gcc); parallel_for runs on std::thread
-# there (src/parallel.cpp says why); tests/tsan.supp lists what is suppressed.
+# ThreadSanitizer (gcc) on the tests that exercise threads: by convention
+# their names say so (TSAN_TESTS; tests/CMakeLists.txt). parallel_for runs on
+# std::thread there (src/parallel.cpp says why); tests/tsan.supp lists what
+# is suppressed. Only the executables holding such tests are built.
+TSAN_TESTS ?= Thread|Concurren|^Parallel\.
+TSAN_TARGETS ?= plancheck plancheck_foundation_tests plancheck_geometry_tests plancheck_terrain_tests plancheck_verify_tests
 test-tsan: dataset
 	cmake -S . -B $(TSAN_BUILD) $(SAN_CMAKE) -DPLANCHECK_TSAN=ON
-	cmake --build $(TSAN_BUILD) -j $(JOBS)
-	cd $(TSAN_BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 3600
+	cmake --build $(TSAN_BUILD) -j $(JOBS) --target $(TSAN_TARGETS)
+	cd $(TSAN_BUILD) && ctest --output-on-failure -j $(JOBS) --timeout 3600 -R '$(TSAN_TESTS)' --no-tests=error
 
 fuzz-build: deps
 	cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DPLANCHECK_FUZZ=ON $(CMAKE_FLAGS)
 	cmake --build $(FUZZ_BUILD) -j $(JOBS)
 
-# Each libFuzzer target for FUZZ_SECONDS (model: FUZZ_MODEL_SECONDS) on a scratch copy of its seed corpus
-# (the committed corpus never grows by itself). Any crash, sanitizer report,
-# exception other than InputError, broken invariant, input slower than 10 s or
-# over 2 GB fails; the input that did it is kept under $(FUZZ_BUILD)/artifacts/.
+# Each libFuzzer target for FUZZ_SECONDS (model: FUZZ_MODEL_SECONDS) on a
+# scratch copy of its seed corpus, JOBS targets at once (scripts/fuzz.sh).
 fuzz: fuzz-build
-	@mkdir -p $(FUZZ_BUILD)/artifacts; status=0; \
-	for t in $(FUZZ_TARGETS); do \
-	  work=$$(mktemp -d); cp -r tests/fuzz/corpus/$$t $$work/corpus; \
-	  secs=$(FUZZ_SECONDS); [ $$t != model ] || secs=$(FUZZ_MODEL_SECONDS); \
-	  echo "fuzz_$$t: $$secs s on a copy of tests/fuzz/corpus/$$t"; \
-	  if $(FUZZ_BUILD)/fuzz/fuzz_$$t $$work/corpus -max_total_time=$$secs -timeout=10 \
-	       -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix=$(CURDIR)/$(FUZZ_BUILD)/artifacts/$$t- \
-	       > $(FUZZ_BUILD)/fuzz-$$t.log 2>&1; then \
-	    echo "fuzz_$$t: ok, $$(grep -h 'stat::number_of_executed_units' $(FUZZ_BUILD)/fuzz-$$t.log | awk '{print $$2}') executions, corpus $$(ls $$work/corpus | wc -l) files"; \
-	  else \
-	    status=1; echo "fuzz_$$t: FAILED (log below, input in $(FUZZ_BUILD)/artifacts/)"; tail -n 60 $(FUZZ_BUILD)/fuzz-$$t.log; \
-	  fi; \
-	  rm -rf $$work; \
-	done; exit $$status
+	@scripts/fuzz.sh $(FUZZ_BUILD) $(JOBS) $(foreach t,$(FUZZ_TARGETS),$(t)=$(if $(filter model,$(t)),$(FUZZ_MODEL_SECONDS),$(FUZZ_SECONDS)))
 
 # Micro benchmarks (each checks its answer first), then Table 3 beside FCL
 # (answers checked state by state before anything is timed). Nothing else
