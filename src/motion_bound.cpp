@@ -16,6 +16,8 @@
 // hence along the whole linear segment between them.
 #include "src/motion_bound.h"
 
+#include "src/kinematics.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -78,20 +80,23 @@ double MotionBound::part_bound(int part, std::span<const double> qa, std::span<c
     const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
     const std::size_t f = static_cast<std::size_t>(a.first_parameter);
     const bool innermost = n + 1 == k;
+    // One-parameter actions read their driving value (a mimic joint's follows its master).
+    const double va = a.parameter_count == 3 ? 0.0 : driving_value(scene_, a, qa);
+    const double vb = a.parameter_count == 3 ? 0.0 : driving_value(scene_, a, qb);
     norms[n] = 1.0;
     switch (a.type) {
       case ActionType::kRotate: {
         const double arm = innermost ? e.inner_arm : line_distance(z, a.pivot, a.axis) + rho;
-        contribution[n] = std::abs(qb[f] - qa[f]) * arm;
+        contribution[n] = std::abs(vb - va) * arm;
         rho = innermost ? e.inner_radius : (z - a.pivot).norm() + rho;
         z = a.pivot;
         break;
       }
       case ActionType::kTranslateAxis: {
         const double un = a.axis.norm();
-        contribution[n] = std::abs(qb[f] - qa[f]) * un;
-        z += a.axis * (0.5 * (qa[f] + qb[f]));
-        rho += 0.5 * std::abs(qb[f] - qa[f]) * un;
+        contribution[n] = std::abs(vb - va) * un;
+        z += a.axis * (0.5 * (va + vb));
+        rho += 0.5 * std::abs(vb - va) * un;
         break;
       }
       case ActionType::kTranslateFree: {

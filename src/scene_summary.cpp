@@ -135,7 +135,10 @@ void print_scene_summary(const Scene& scene, std::ostream& out) {
   out << "\nactions (" << scene.actions.size() << "):\n";
   for (const Action& a : scene.actions) {
     out << "  " << a.name << "  " << type_name(a) << "  node " << a.node_name << "  limits ";
-    if (a.has_limits) {
+    if (a.mimic >= 0) {
+      out << "none; mimics " << scene.actions[a.mimic].name << " (" << a.multiplier << " x + " << a.offset
+          << "), no column";
+    } else if (a.has_limits) {
       const double unit = a.type == ActionType::kRotate ? scene.angle_scale
                           : a.type == ActionType::kScale ? 1.0 : scene.length_scale;
       const std::string unit_name = a.type == ActionType::kRotate ? scene.angle_unit
