@@ -7,6 +7,7 @@
 // by state; FCL on the URDF scene's geometry must agree too.
 #include "src/error.h"
 #include "src/kinematics.h"
+#include "src/motion_bound.h"
 #include "src/plan.h"
 #include "src/robot_loader.h"
 #include "src/scene_loader.h"
@@ -296,6 +297,19 @@ TEST(RobotLoader, MimicJointFollowsItsMaster) {
   const Affine right = part_transform(s, s.find_part("finger_r"), q);
   EXPECT_LT((left.translation() - Vec3(0, 0, 0.02)).norm(), 1e-15);
   EXPECT_LT((right.translation() - Vec3(0, 0, -0.02)).norm(), 1e-15);
+}
+
+// The motion bound of a mimic link covers how far it really travels.
+TEST(RobotLoader, MotionBoundCoversAMimicLink) {
+  const Scene s = load_arm();
+  const MotionBound bound(s);
+  std::vector<double> qa(s.parameter_names.size(), 0.0), qb(qa);
+  qb[4] = 0.03;
+  const int right = s.find_part("finger_r");
+  const double travelled = (part_transform(s, right, qb).translation() - part_transform(s, right, qa).translation()).norm();
+  EXPECT_NEAR(travelled, 0.03, 1e-15);
+  EXPECT_GE(bound.part_bound(right, qa, qb), travelled);
+  EXPECT_LE(bound.part_bound(right, qa, qb), 0.03 * (1 + 1e-6));
 }
 
 TEST(RobotLoader, SrdfAllowsExactlyThoseLinkPairs) {
