@@ -48,6 +48,8 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kRoundingMargin = 1e-12;
 
 std::string read_file(const std::filesystem::path& file, const char* what) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) fail(file, std::string("cannot open ") + what + " (missing or not a file)");
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file, std::string("cannot open ") + what);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -156,7 +158,7 @@ std::string package_name(const std::filesystem::path& package_xml) {
 
 class Resolver {
  public:
-  Resolver(const RobotSpec& spec) : spec_(spec), folder_(spec.urdf.parent_path()) {}
+  explicit Resolver(const RobotSpec& spec) : spec_(spec), folder_(spec.urdf.parent_path()) {}
 
   // The file a URDF mesh filename names; `where` names the element for messages.
   std::filesystem::path resolve(const std::string& uri, const std::string& where) {
