@@ -454,6 +454,7 @@ std::vector<std::pair<int, int>> add_robot(const RobotSpec& spec, Scene& scene) 
       parent = node_of.at(joint->parent_link_name);
       info.adjacent.emplace_back(joint->parent_link_name, link->name);
     }
+    if (!t.matrix().allFinite()) fail(file, where + ": its frame is not finite (origins too large)");
     frame[link->name] = t;
     Node node;
     node.name = link->name;
