@@ -16,7 +16,9 @@ FUZZ_SECONDS ?= 60
 # fuzz_model forks an importer child per input (src/isolate.h), about 60
 # inputs a second under ASan against thousands for the others: it gets longer.
 FUZZ_MODEL_SECONDS ?= 180
-FUZZ_TARGETS ?= scene plan model dem verify
+# fuzz_urdf also forks an importer per mesh it resolves: a modest budget.
+FUZZ_URDF_SECONDS ?= 45
+FUZZ_TARGETS ?= scene plan model dem verify urdf
 # -O2 as in Release, line tables only (-g1): readable reports, lighter builds.
 SAN_CMAKE := -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
              -DPLANCHECK_BUILD_BENCH=OFF $(CMAKE_FLAGS)
@@ -84,10 +86,11 @@ fuzz-build: deps
 	cmake -S . -B $(FUZZ_BUILD) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DPLANCHECK_FUZZ=ON $(CMAKE_FLAGS)
 	cmake --build $(FUZZ_BUILD) -j $(JOBS)
 
-# Each libFuzzer target for FUZZ_SECONDS (model: FUZZ_MODEL_SECONDS) on a
+# Each libFuzzer target for FUZZ_SECONDS (model: FUZZ_MODEL_SECONDS, urdf:
+# FUZZ_URDF_SECONDS) on a
 # scratch copy of its seed corpus, JOBS targets at once (scripts/fuzz.sh).
 fuzz: fuzz-build
-	@scripts/fuzz.sh $(FUZZ_BUILD) $(JOBS) $(foreach t,$(FUZZ_TARGETS),$(t)=$(if $(filter model,$(t)),$(FUZZ_MODEL_SECONDS),$(FUZZ_SECONDS)))
+	@scripts/fuzz.sh $(FUZZ_BUILD) $(JOBS) $(foreach t,$(FUZZ_TARGETS),$(t)=$(if $(filter model,$(t)),$(FUZZ_MODEL_SECONDS),$(if $(filter urdf,$(t)),$(FUZZ_URDF_SECONDS),$(FUZZ_SECONDS))))
 
 # Micro benchmarks (each checks its answer first), then Table 3 beside FCL
 # (answers checked state by state before anything is timed). Nothing else

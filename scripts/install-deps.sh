@@ -8,6 +8,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libtbb-dev libembree-dev libassimp-dev
   nlohmann-json3-dev libcli11-dev libgmp-dev libpng-dev
+  liburdfdom-dev libtinyxml2-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libcgal-dev
   assimp-testmodels dart-doc

@@ -36,7 +36,7 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
 
   auto t0 = std::chrono::steady_clock::now();
   err << "plancheck: loading " << args.scene.string() << "\n";
-  const Scene scene = load_scene(args.scene);
+  const Scene scene = load_scene(args.scene, args.scene_options);
   ContinuousOptions options;
   if (args.continuous_tolerance > 0.0) options.tolerance = args.continuous_tolerance * scene.length_scale;
   if (!(options.tolerance >= 10.0 * kDistanceTolerance) || !std::isfinite(options.tolerance))

@@ -2,6 +2,8 @@
 // The bodies of the command-line subcommands; main.cpp only parses words.
 #pragma once
 
+#include "src/scene_loader.h"
+
 #include <filesystem>
 #include <iosfwd>
 #include <string>
@@ -11,6 +13,7 @@ namespace plancheck {
 
 struct VerifyArgs {
   std::filesystem::path scene;
+  SceneOptions scene_options;  // --srdf, --package
   std::vector<std::filesystem::path> plans;
   std::filesystem::path out = "plancheck-out";
   int threads = 0;           // 0: all hardware threads
@@ -22,6 +25,7 @@ struct VerifyArgs {
 
 struct DigArgs {
   std::filesystem::path scene;
+  SceneOptions scene_options;  // --srdf, --package
   std::filesystem::path plan;
   std::filesystem::path out = "plancheck-dig";
 };

@@ -14,7 +14,7 @@
 namespace plancheck {
 
 int run_dig(const DigArgs& args, std::ostream& out) {
-  const Scene scene = load_scene(args.scene);
+  const Scene scene = load_scene(args.scene, args.scene_options);
   if (!scene.terrain) fail(args.scene, "terrain: missing (plancheck dig needs a terrain and a scoop block)");
   if (!scene.scoop) fail(args.scene, "scoop: missing (plancheck dig needs a terrain and a scoop block)");
   const Plan plan = load_plan(scene, args.plan);

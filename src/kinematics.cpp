@@ -40,13 +40,24 @@ Affine action_transform(const Action& action, const double* params) {
   return t;
 }
 
+double driving_value(const Scene& scene, const Action& action, std::span<const double> params) {
+  if (action.mimic < 0) return params[static_cast<std::size_t>(action.first_parameter)];
+  const Action& master = scene.actions[static_cast<std::size_t>(action.mimic)];
+  return action.multiplier * params[static_cast<std::size_t>(master.first_parameter)] + action.offset;
+}
+
+Affine action_transform_at(const Scene& scene, const Action& action, std::span<const double> params) {
+  if (action.mimic < 0) return action_transform(action, params.data() + action.first_parameter);
+  const double value = driving_value(scene, action, params);
+  return action_transform(action, &value);
+}
+
 namespace {
 
 Affine compose(const Scene& scene, const std::vector<int>& chain, std::span<const double> params) {
   Affine t = Affine::Identity();
   for (int a : chain) {
-    const Action& action = scene.actions[a];
-    t = t * action_transform(action, params.data() + action.first_parameter);
+    t = t * action_transform_at(scene, scene.actions[a], params);
   }
   return t;
 }

@@ -19,6 +19,16 @@ namespace plancheck {
 // The value that drives a motion or meets a limit is never reduced.
 Affine action_transform(const Action& action, const double* params);
 
+// The value driving a one-parameter action in a full parameter vector, as
+// written: its own parameter, or for a mimic joint (Action::mimic)
+// multiplier * the master's value + offset (a robot's units are m and rad,
+// so the master's written value is already what URDF's mimic multiplies).
+double driving_value(const Scene& scene, const Action& action, std::span<const double> params);
+
+// action_transform for an action of `scene` at a full parameter vector
+// (a mimic joint follows its master).
+Affine action_transform_at(const Scene& scene, const Action& action, std::span<const double> params);
+
 // out[c] = A1 * A2 * ... * Ak for every chain c of scene.chains (root first),
 // given a full parameter vector in scene.parameter_names order.
 void chain_transforms(const Scene& scene, std::span<const double> params, std::vector<Affine>& out);

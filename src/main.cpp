@@ -18,6 +18,25 @@ namespace {
 
 constexpr int kExitBadInput = 2;
 
+// `--srdf FILE` and `--package NAME=DIR` on every command that reads a scene
+// (a bare .urdf is a scene too).
+void add_robot_options(CLI::App* cmd, std::string& srdf, std::vector<std::string>& packages) {
+  cmd->add_option("--srdf", srdf, "SRDF of a bare .urdf: its disable_collisions pairs are allowed");
+  cmd->add_option("--package", packages, "NAME=DIR: where package://NAME/ meshes are (repeatable)");
+}
+
+plancheck::SceneOptions scene_options(const std::string& srdf, const std::vector<std::string>& packages) {
+  plancheck::SceneOptions o;
+  o.srdf = srdf;
+  for (const std::string& p : packages) {
+    const std::size_t eq = p.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == p.size())
+      throw plancheck::InputError("--package " + p + ": expected NAME=DIR");
+    o.packages[p.substr(0, eq)] = p.substr(eq + 1);
+  }
+  return o;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -25,14 +44,18 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   std::string scene_file;
+  std::string srdf;
+  std::vector<std::string> packages;
   CLI::App* scene_cmd = app.add_subcommand("scene", "list parts, actions, checked pairs and reference contacts");
-  scene_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON)")->required();
+  scene_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
+  add_robot_options(scene_cmd, srdf, packages);
 
   plancheck::VerifyArgs verify;
   std::vector<std::string> plan_files;
   std::string out_dir = "plancheck-out";
   CLI::App* verify_cmd = app.add_subcommand("verify", "check every state of every plan; exit 0 all safe, 1 a violation");
-  verify_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON)")->required();
+  verify_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
+  add_robot_options(verify_cmd, srdf, packages);
   verify_cmd->add_option("PLAN", plan_files, "plan files (CSV)")->required();
   verify_cmd->add_option("--out", out_dir, "folder for report.json and one CSV per plan")->capture_default_str();
   verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
@@ -50,7 +73,8 @@ int main(int argc, char** argv) {
   std::string dig_plan;
   std::string dig_out = "plancheck-dig";
   CLI::App* dig_cmd = app.add_subcommand("dig", "dig one plan; write the terrain before/after (ESRI ASCII) and a PNG map");
-  dig_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON)")->required();
+  dig_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
+  add_robot_options(dig_cmd, srdf, packages);
   dig_cmd->add_option("PLAN", dig_plan, "plan file (CSV)")->required();
   dig_cmd->add_option("--out", dig_out, "folder for before.asc, after.asc and dig.png")->capture_default_str();
 
@@ -60,7 +84,8 @@ int main(int argc, char** argv) {
   std::string sweep_out = "plancheck-sweep";
   CLI::App* sweep_cmd = app.add_subcommand(
       "sweep", "check a grid of configurations: DIR/sweep.csv per configuration, DIR/sweep.json summary");
-  sweep_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON)")->required();
+  sweep_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
+  add_robot_options(sweep_cmd, srdf, packages);
   CLI::Option* steps_opt = sweep_cmd->add_option(
       "--steps", sweep_steps, "values per driving parameter with limits, ends included (default 9)");
   CLI::Option* grid_opt = sweep_cmd->add_option(
@@ -84,20 +109,23 @@ int main(int argc, char** argv) {
 
   try {
     if (scene_cmd->parsed()) {
-      const plancheck::Scene scene = plancheck::load_scene(scene_file);
+      const plancheck::Scene scene = plancheck::load_scene(scene_file, scene_options(srdf, packages));
       plancheck::print_scene_summary(scene, std::cout);
     } else if (verify_cmd->parsed()) {
       verify.scene = scene_file;
+      verify.scene_options = scene_options(srdf, packages);
       verify.plans.assign(plan_files.begin(), plan_files.end());
       verify.out = out_dir;
       return plancheck::run_verify(verify, std::cout, std::cerr);
     } else if (dig_cmd->parsed()) {
       dig.scene = scene_file;
+      dig.scene_options = scene_options(srdf, packages);
       dig.plan = dig_plan;
       dig.out = dig_out;
       return plancheck::run_dig(dig, std::cout);
     } else if (sweep_cmd->parsed()) {
       sweep.scene = scene_file;
+      sweep.scene_options = scene_options(srdf, packages);
       if (*steps_opt) sweep.steps = sweep_steps;
       if (*grid_opt) sweep.grid = sweep_grid;
       sweep.out = sweep_out;

@@ -307,8 +307,8 @@ struct Pending {
 
 class Builder {
  public:
-  Builder(const aiScene& ai, const std::filesystem::path& file, double scale, Scene& scene)
-      : ai_(ai), file_(file), scale_(scale), scene_(scene) {}
+  Builder(const aiScene& ai, const std::filesystem::path& file, double scale, Scene& scene, bool unique_names)
+      : ai_(ai), file_(file), scale_(scale), scene_(scene), unique_names_(unique_names) {}
 
   void build() {
     if (is_3ds(file_)) tds_objects_ = TdsReader(file_).objects();
@@ -548,6 +548,7 @@ class Builder {
     }
     std::map<std::string, int> seen;
     for (const Part& part : scene_.parts) {
+      if (!unique_names_) break;
       auto [it, inserted] = seen.emplace(part.name, part.node);
       if (!inserted)
         fail(file_, "duplicate part name '" + part.name + "': " + scene_.nodes[it->second].path + " and " +
@@ -563,13 +564,14 @@ class Builder {
   std::filesystem::path file_;
   double scale_;
   Scene& scene_;
+  bool unique_names_;
   std::vector<Pending> pending_;
   std::vector<TdsObject> tds_objects_;  // 3ds files only
   std::set<unsigned> used_meshes_;
 };
 
 // The import proper: assimp and the Builder, in whatever process runs it.
-void import_model(const std::filesystem::path& model, double length_scale, Scene& scene) {
+void import_model(const std::filesystem::path& model, double length_scale, Scene& scene, bool unique_names) {
   Assimp::Importer importer;
   // The reference frame is the file's own coordinates: no up-axis conversion.
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
@@ -587,7 +589,7 @@ void import_model(const std::filesystem::path& model, double length_scale, Scene
     fail(model, "cannot read model: the file holds no meshes");
   scene.nodes.clear();
   scene.parts.clear();
-  Builder(*ai, model, length_scale, scene).build();
+  Builder(*ai, model, length_scale, scene, unique_names).build();
 }
 
 // What the import hands back from its child process: the part tree, the
@@ -740,8 +742,12 @@ void unpack(std::string_view bytes, const std::filesystem::path& file, Scene& sc
 
 }  // namespace
 
-void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
-                const IsolationLimits& limits) {
+namespace {
+
+// load_model's body: the checks ahead of assimp, the isolated import, the
+// checked unpacking.
+void import_checked(const std::filesystem::path& model, double length_scale, Scene& scene,
+                    const IsolationLimits& limits, bool unique_names) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(model, ec)) fail(model, "cannot open model file (missing or not a file)");
   {
@@ -757,7 +763,7 @@ void load_model(const std::filesystem::path& model, double length_scale, Scene& 
     packed = run_isolated(
         [&] {
           Scene imported;
-          import_model(model, length_scale, imported);
+          import_model(model, length_scale, imported, unique_names);
           return pack(imported);
         },
         limits);
@@ -769,6 +775,27 @@ void load_model(const std::filesystem::path& model, double length_scale, Scene& 
     fail(model, std::string("cannot read model: ") + e.what());
   }
   unpack(packed, model, scene);
+}
+
+}  // namespace
+
+void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
+                const IsolationLimits& limits) {
+  import_checked(model, length_scale, scene, limits, true);
+}
+
+Mesh load_mesh(const std::filesystem::path& model, std::vector<std::string>& warnings,
+               const IsolationLimits& limits) {
+  Scene imported;
+  import_checked(model, 1.0, imported, limits, false);
+  Mesh mesh;
+  for (const Part& part : imported.parts) {
+    const auto base = static_cast<std::uint32_t>(mesh.vertices.size());
+    mesh.vertices.insert(mesh.vertices.end(), part.mesh.vertices.begin(), part.mesh.vertices.end());
+    for (const Tri& t : part.mesh.triangles) mesh.triangles.push_back({base + t[0], base + t[1], base + t[2]});
+  }
+  for (std::string& w : imported.warnings) warnings.push_back(std::move(w));
+  return mesh;
 }
 
 }  // namespace plancheck

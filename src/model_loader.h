@@ -20,4 +20,11 @@ namespace plancheck {
 void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
                 const IsolationLimits& limits = {});
 
+// Every triangle of a model file as one mesh, node transforms applied (the
+// file's own frame, its unit included, no up-axis turn: what RViz shows for a
+// URDF mesh). Node names need not be unique. Same guards, isolation and
+// checks as load_model; warnings are appended to `warnings`.
+Mesh load_mesh(const std::filesystem::path& model, std::vector<std::string>& warnings,
+               const IsolationLimits& limits = {});
+
 }  // namespace plancheck

@@ -16,6 +16,8 @@
 // hence along the whole linear segment between them.
 #include "src/motion_bound.h"
 
+#include "src/kinematics.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -78,13 +80,16 @@ double MotionBound::part_bound(int part, std::span<const double> qa, std::span<c
     const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
     const std::size_t f = static_cast<std::size_t>(a.first_parameter);
     const bool innermost = n + 1 == k;
+    // One-parameter actions read their driving value (a mimic joint's follows its master).
+    const double va = a.parameter_count == 3 ? 0.0 : driving_value(scene_, a, qa);
+    const double vb = a.parameter_count == 3 ? 0.0 : driving_value(scene_, a, qb);
     norms[n] = 1.0;
     switch (a.type) {
       case ActionType::kRotate: {
         const double arm = innermost ? e.inner_arm : line_distance(z, a.pivot, a.axis) + rho;
         // The angle turned is the written difference, converted: 0 -> 720 deg
         // is two turns, never none (whole turns are removed only for the pose).
-        contribution[n] = std::abs(qb[f] - qa[f]) * a.unit_to_si * arm;
+        contribution[n] = std::abs(vb - va) * a.unit_to_si * arm;
         rho = innermost ? e.inner_radius : (z - a.pivot).norm() + rho;
         z = a.pivot;
         break;
@@ -92,9 +97,9 @@ double MotionBound::part_bound(int part, std::span<const double> qa, std::span<c
       case ActionType::kTranslateAxis: {
         const double un = a.axis.norm();
         const double u = a.unit_to_si;
-        contribution[n] = std::abs(qb[f] - qa[f]) * u * un;
-        z += a.axis * (0.5 * (qa[f] + qb[f]) * u);
-        rho += 0.5 * std::abs(qb[f] - qa[f]) * u * un;
+        contribution[n] = std::abs(vb - va) * u * un;
+        z += a.axis * (0.5 * (va + vb) * u);
+        rho += 0.5 * std::abs(vb - va) * u * un;
         break;
       }
       case ActionType::kTranslateFree: {

@@ -16,6 +16,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace plancheck {
@@ -40,6 +41,7 @@ struct Node {
   int part = -1;               // index into Scene::parts when the node owns triangles
   std::vector<int> actions;    // indices into Scene::actions carried by this node
   Vec3 origin = Vec3::Zero();  // the node's own frame origin at the reference pose (m)
+  bool robot_link = false;     // a URDF link: allowed_collisions naming it means exactly this link
 };
 
 enum class ActionType { kRotate, kTranslateAxis, kTranslateFree, kScale };
@@ -63,7 +65,12 @@ struct Action {
   double unit_to_si = 1.0;     // plan unit -> rad (rotate) or m (translate); 1 for scale factors
   double whole_turn = 0.0;     // rotate in degrees: 360 (removed exactly before sin/cos); else 0
   int first_parameter = 0;     // index of its first driving parameter in a state vector
-  int parameter_count = 1;     // 1 (rotate, translate with axis) or 3 (free translate, scale)
+  int parameter_count = 1;     // 1 (rotate, translate with axis) or 3 (free translate, scale); 0 for a mimic
+  // A URDF mimic joint has no driving parameter of its own: its value is
+  // multiplier * (value of action `mimic`) + offset (SI units).
+  int mimic = -1;              // index into Scene::actions of the master; -1: none
+  double multiplier = 1.0;
+  double offset = 0.0;
 };
 
 // A part: a node that owns at least one triangle mesh.
@@ -116,6 +123,22 @@ struct ProbeConfig {
   double max_range = 0.0;            // m
 };
 
+// What a scene's robot (a URDF, src/robot_loader.h) added, for messages and
+// `plancheck scene`.
+struct RobotInfo {
+  std::filesystem::path urdf;
+  std::filesystem::path srdf;        // empty: none
+  std::string name;                  // the URDF's robot name
+  bool visual = false;               // visual geometry instead of collision
+  double padding = 0.0;              // m, MoveIt's link padding
+  double scale = 1.0;                // MoveIt's link scale
+  int links = 0, joints = 0;         // as read from the URDF
+  std::vector<std::pair<std::string, std::string>> adjacent;  // (parent link, child link) of every joint
+  std::vector<std::pair<std::string, std::string>> disabled;  // the SRDF's disable_collisions pairs
+  int boxes = 0, cylinders = 0, spheres = 0;  // primitive geometries tessellated
+  double largest_deviation = 0.0;    // m, over every primitive of the robot
+};
+
 struct Scene {
   std::filesystem::path file;        // the scene JSON
   std::filesystem::path model_file;  // resolved model path
@@ -143,6 +166,7 @@ struct Scene {
   std::optional<TerrainConfig> terrain;
   std::optional<ScoopConfig> scoop;
   std::vector<ProbeConfig> probes;
+  std::optional<RobotInfo> robot;    // the scene's robot (URDF), if any
 
   std::vector<std::string> warnings;  // non-fatal load remarks (ignored primitives, ...)
 

@@ -7,6 +7,7 @@
 
 #include "src/error.h"
 #include "src/model_loader.h"
+#include "src/robot_loader.h"
 
 #include <nlohmann/json.hpp>
 
@@ -313,9 +314,22 @@ std::vector<int> subtree_parts(const Scene& scene, int node) {
 
 constexpr const char* kTerrainName = "terrain";
 
-void resolve_pairs(const Reader& r, const Json* allowed_json, Scene& scene) {
+// The parts an allowed_collisions name stands for: a node's subtree, or
+// exactly one link when it names a robot link (as an SRDF does).
+std::vector<int> named_parts(const Scene& scene, int node) {
+  if (scene.nodes[node].robot_link)
+    return scene.nodes[node].part >= 0 ? std::vector<int>{scene.nodes[node].part} : std::vector<int>{};
+  return subtree_parts(scene, node);
+}
+
+void resolve_pairs(const Reader& r, const Json* allowed_json, Scene& scene,
+                   const std::vector<std::pair<int, int>>& robot_allowed = {}) {
   const std::size_t n = scene.parts.size();
   std::vector<bool> allowed(n * n, false);  // symmetric, one bit per part pair
+  for (const auto& [a, b] : robot_allowed) {
+    allowed[static_cast<std::size_t>(a) * n + static_cast<std::size_t>(b)] = true;
+    allowed[static_cast<std::size_t>(b) * n + static_cast<std::size_t>(a)] = true;
+  }
   std::set<int> terrain_allowed;
   if (allowed_json != nullptr) {
     if (!allowed_json->is_array()) r.error("allowed_collisions", "expected an array of [node, node] pairs");
@@ -329,7 +343,7 @@ void resolve_pairs(const Reader& r, const Json* allowed_json, Scene& scene) {
       for (int k = 0; k < 2; ++k) {
         is_terrain[k] = scene.terrain.has_value() && names[k] == kTerrainName;
         if (!is_terrain[k])
-          sets[k] = subtree_parts(scene, find_node(r, scene, names[k], where + "[" + std::to_string(k) + "]"));
+          sets[k] = named_parts(scene, find_node(r, scene, names[k], where + "[" + std::to_string(k) + "]"));
       }
       if (is_terrain[0] && is_terrain[1]) r.error(where, "the terrain cannot be paired with itself");
       if (is_terrain[0] || is_terrain[1]) {
@@ -454,25 +468,93 @@ void read_probes(const Reader& r, const Json& list, Scene& scene) {
   }
 }
 
+// The scene's `robot` block -> a RobotSpec (paths relative to the scene file).
+RobotSpec read_robot(const Reader& r, const Json& j, const Scene& scene, const SceneOptions& options) {
+  r.check_keys(j, "robot", {"urdf", "srdf", "packages", "geometry", "parent", "origin", "padding", "scale"});
+  if (!j.contains("urdf")) r.error("robot.urdf", "missing");
+  const std::filesystem::path folder = r.file().parent_path();
+  RobotSpec spec;
+  spec.urdf = folder / r.string(j["urdf"], "robot.urdf");
+  if (j.contains("srdf")) spec.srdf = folder / r.string(j["srdf"], "robot.srdf");
+  if (!options.srdf.empty()) r.error("robot.srdf", "--srdf is for a bare .urdf; a scene names its SRDF here");
+  if (j.contains("packages")) {
+    r.check_object(j["packages"], "robot.packages");
+    for (auto it = j["packages"].begin(); it != j["packages"].end(); ++it)
+      spec.packages[it.key()] = folder / r.string(it.value(), "robot.packages." + it.key());
+  }
+  for (const auto& [name, dir] : options.packages) spec.packages[name] = dir;
+  if (j.contains("geometry")) {
+    const std::string g = r.string(j["geometry"], "robot.geometry");
+    if (g != "collision" && g != "visual") r.error("robot.geometry", "expected \"collision\" or \"visual\"");
+    spec.visual = g == "visual";
+  }
+  if (j.contains("parent")) spec.parent_node = find_node(r, scene, r.string(j["parent"], "robot.parent"), "robot.parent");
+  if (j.contains("origin")) {
+    const Json& o = j["origin"];
+    r.check_keys(o, "robot.origin", {"xyz", "rpy"});
+    Vec3 xyz = Vec3::Zero(), rpy = Vec3::Zero();
+    if (o.contains("xyz")) xyz = r.vec3(o["xyz"], "robot.origin.xyz");
+    if (o.contains("rpy")) rpy = r.vec3(o["rpy"], "robot.origin.rpy");
+    // URDF's convention: roll about x, then pitch about y, then yaw about z (fixed axes).
+    spec.origin = Affine::Identity();
+    spec.origin.translate(xyz);
+    spec.origin.rotate(Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+                       Eigen::AngleAxisd(rpy.x(), Vec3::UnitX()));
+  }
+  if (j.contains("padding")) {
+    spec.padding = r.number(j["padding"], "robot.padding");
+    if (spec.padding < 0) r.error("robot.padding", "must not be negative");
+  }
+  if (j.contains("scale")) spec.scale = positive(r, j["scale"], "robot.scale");
+  return spec;
+}
+
+bool is_urdf(const std::filesystem::path& file) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".urdf";
+}
+
 }  // namespace
 
-Scene load_scene(const std::filesystem::path& scene_json) {
+Scene load_scene(const std::filesystem::path& scene_json, const SceneOptions& options) {
+  if (is_urdf(scene_json)) {
+    // A robot alone: the URDF's own units, no model, no other blocks.
+    Scene scene;
+    scene.file = scene_json;
+    scene.model_file = scene_json;
+    scene.length_unit = "m";
+    scene.angle_unit = "rad";
+    scene.length_scale = 1.0;
+    scene.angle_scale = 1.0;
+    RobotSpec spec;
+    spec.urdf = scene_json;
+    spec.srdf = options.srdf;
+    spec.packages = options.packages;
+    const auto allowed = add_robot(spec, scene);
+    if (scene.parts.empty()) fail(scene_json, "the robot has no geometry (no link has a collision element)");
+    resolve_chains(scene);
+    resolve_pairs(Reader(scene_json), nullptr, scene, allowed);
+    return scene;
+  }
+  if (!options.srdf.empty()) fail(scene_json, "--srdf is for a bare .urdf; a scene file names its SRDF in robot.srdf");
   std::ifstream in(scene_json, std::ios::binary);
   if (!in) fail(scene_json, "cannot open scene file");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parse_scene(text, scene_json);
+  return parse_scene(text, scene_json, options);
 }
 
-Scene parse_scene(const std::string& text, const std::filesystem::path& scene_json) {
+Scene parse_scene(const std::string& text, const std::filesystem::path& scene_json, const SceneOptions& options) {
   Reader r(scene_json);
   const Json root = parse_json(text, scene_json);
   r.check_keys(root, "",
                {"format", "model", "length_unit", "angle_unit", "actions", "allowed_collisions", "safety_margin",
-                "terrain", "scoop", "probes"});
+                "terrain", "scoop", "probes", "robot"});
   if (!root.contains("format")) r.error("format", "missing (expected \"plancheck-scene/1\")");
   const std::string format = r.string(root["format"], "format");
   if (format != "plancheck-scene/1") r.error("format", "unsupported format '" + format + "' (expected plancheck-scene/1)");
-  if (!root.contains("model")) r.error("model", "missing");
+  const bool has_robot = root.contains("robot");
+  if (!root.contains("model") && !has_robot) r.error("model", "missing (a scene needs a model, a robot or both)");
 
   Scene scene;
   scene.file = scene_json;
@@ -480,25 +562,39 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& scene_js
   if (root.contains("angle_unit")) scene.angle_unit = r.string(root["angle_unit"], "angle_unit");
   scene.length_scale = length_scale_of(r, scene.length_unit);
   scene.angle_scale = angle_scale_of(r, scene.angle_unit);
+  if (has_robot && scene.length_unit != "m")
+    r.error("length_unit", "must be m with a robot (URDF lengths are metres), not " + scene.length_unit);
+  if (has_robot && scene.angle_unit != "rad")
+    r.error("angle_unit", "must be rad with a robot (URDF angles are radians), not " + scene.angle_unit +
+                              (root.contains("angle_unit") ? "" : " (the default)"));
   if (root.contains("safety_margin")) {
     double margin = r.number(root["safety_margin"], "safety_margin");
     if (margin < 0.0) r.error("safety_margin", "must not be negative");
     scene.safety_margin = margin * scene.length_scale;
   }
-  const std::string model = r.string(root["model"], "model");
-  if (model.empty()) r.error("model", "empty path");
-  scene.model_file = scene_json.parent_path() / model;
   // Optional blocks that do not need the model are read first so their
   // mistakes are reported before a possibly slow model load.
   if (root.contains("terrain")) read_terrain(r, root["terrain"], scene);
 
-  load_model(scene.model_file, scene.length_scale, scene);
+  if (root.contains("model")) {
+    const std::string model = r.string(root["model"], "model");
+    if (model.empty()) r.error("model", "empty path");
+    scene.model_file = scene_json.parent_path() / model;
+    load_model(scene.model_file, scene.length_scale, scene);
+  }
+  std::vector<std::pair<int, int>> robot_allowed;
+  if (has_robot) {
+    const RobotSpec spec = read_robot(r, root["robot"], scene, options);
+    if (!root.contains("model")) scene.model_file = spec.urdf;
+    robot_allowed = add_robot(spec, scene);
+    if (scene.parts.empty()) r.error("robot", "the robot has no geometry and the scene no model");
+  }
 
   if (scene.terrain && scene.terrain->collide && scene.find_part(kTerrainName) >= 0)
     r.error("terrain", "the model has a part named 'terrain', which clashes with the terrain block");
   if (root.contains("actions")) read_actions(r, root["actions"], scene);
   resolve_chains(scene);
-  resolve_pairs(r, root.contains("allowed_collisions") ? &root["allowed_collisions"] : nullptr, scene);
+  resolve_pairs(r, root.contains("allowed_collisions") ? &root["allowed_collisions"] : nullptr, scene, robot_allowed);
   if (root.contains("scoop")) read_scoop(r, root["scoop"], scene);
   if (root.contains("probes")) read_probes(r, root["probes"], scene);
   return scene;

@@ -3,11 +3,14 @@
 
 #include "src/collision_model.h"
 #include "src/parallel.h"
+#include "src/robot_loader.h"
 #include "src/terrain.h"
 
 #include <algorithm>
 #include <cstddef>
 #include <optional>
+#include <set>
+#include <utility>
 #include <string>
 
 namespace plancheck {
@@ -28,6 +31,41 @@ std::string chain_text(const Scene& scene, const std::vector<int>& chain) {
   std::string s;
   for (int a : chain) s += (s.empty() ? "" : " > ") + scene.actions[a].name;
   return s;
+}
+
+// The robot block: what was read, the tessellation error of its primitives,
+// and its links in contact at the zero pose as lines for an SRDF.
+void print_robot(const Scene& scene, const std::vector<ReferenceContact>& contacts, std::ostream& out) {
+  const RobotInfo& r = *scene.robot;
+  out << "\nrobot: " << (r.name.empty() ? "<unnamed>" : r.name) << " from " << r.urdf.string();
+  if (!r.srdf.empty()) out << " and " << r.srdf.string() << " (" << r.disabled.size() << " disable_collisions)";
+  out << "\n  " << r.links << " links, " << r.joints << " joints; " << (r.visual ? "visual" : "collision")
+      << " geometry; padding " << r.padding << " m, scale " << r.scale << "\n";
+  double cylinder = 0, sphere = 0;
+  cylinder_tessellation(1.0, 1.0, cylinder);
+  sphere_tessellation(1.0, sphere);
+  out << "  primitives: " << r.boxes << " boxes (exact), " << r.cylinders << " cylinders, " << r.spheres
+      << " spheres; tessellated with " << kPrimitiveSegments
+      << " segments to contain the true shape, never smaller: at most " << cylinder * 100
+      << "% of a cylinder's radius and " << sphere * 100 << "% of a sphere's radius beyond it";
+  if (r.cylinders + r.spheres > 0) out << " (" << r.largest_deviation << " m here)";
+  out << "\n";
+  std::set<std::string> links;
+  for (const Node& n : scene.nodes)
+    if (n.robot_link) links.insert(n.name);
+  std::set<std::pair<std::string, std::string>> adjacent;
+  for (const auto& [a, b] : r.adjacent) {
+    adjacent.emplace(a, b);
+    adjacent.emplace(b, a);
+  }
+  std::vector<std::string> lines;
+  for (const ReferenceContact& c : contacts) {
+    if (c.allowed || !links.count(c.a) || !links.count(c.b)) continue;
+    lines.push_back("  <disable_collisions link1=\"" + c.a + "\" link2=\"" + c.b + "\" reason=\"" +
+                    (adjacent.count({c.a, c.b}) ? "Adjacent" : "Default") + "\"/>");
+  }
+  out << "links in contact at the zero pose, not yet allowed (" << lines.size() << "; for the SRDF):\n";
+  for (const std::string& l : lines) out << l << "\n";
 }
 
 }  // namespace
@@ -97,7 +135,10 @@ void print_scene_summary(const Scene& scene, std::ostream& out) {
   out << "\nactions (" << scene.actions.size() << "):\n";
   for (const Action& a : scene.actions) {
     out << "  " << a.name << "  " << type_name(a) << "  node " << a.node_name << "  limits ";
-    if (a.has_limits) {
+    if (a.mimic >= 0) {
+      out << "none; mimics " << scene.actions[a.mimic].name << " (" << a.multiplier << " x + " << a.offset
+          << "), no column";
+    } else if (a.has_limits) {
       const std::string unit_name = a.type == ActionType::kRotate ? scene.angle_unit
                                     : a.type == ActionType::kScale ? "" : scene.length_unit;
       out << "[" << a.lower << ", " << a.upper << "]" << (unit_name.empty() ? "" : " ") << unit_name;
@@ -125,6 +166,7 @@ void print_scene_summary(const Scene& scene, std::ostream& out) {
     out << "  " << c.a << " - " << c.b << (c.allowed ? "  (allowed)" : "  (checked: a collision at the reference pose)")
         << "\n";
 
+  if (scene.robot) print_robot(scene, contacts, out);
   for (const std::string& w : scene.warnings) out << "warning: " << w << "\n";
 }
 

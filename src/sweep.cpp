@@ -153,7 +153,7 @@ std::vector<SweepAxis> sweep_axes_from_grid(const Scene& scene, const std::strin
 int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
   const auto t_load = std::chrono::steady_clock::now();
   err << "plancheck: loading " << args.scene.string() << "\n";
-  const Scene scene = load_scene(args.scene);
+  const Scene scene = load_scene(args.scene, args.scene_options);
   std::vector<SweepAxis> axes;
   if (args.grid && args.steps) throw InputError("--grid and --steps cannot be used together");
   if (args.grid)

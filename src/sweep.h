@@ -6,6 +6,7 @@
 #pragma once
 
 #include "src/scene.h"
+#include "src/scene_loader.h"
 
 #include <cstddef>
 #include <filesystem>
@@ -36,6 +37,7 @@ std::vector<SweepAxis> sweep_axes_from_grid(const Scene& scene, const std::strin
 
 struct SweepArgs {
   std::filesystem::path scene;
+  SceneOptions scene_options;        // --srdf, --package
   std::optional<long> steps;         // --steps N
   std::optional<std::string> grid;   // --grid SPEC
   std::filesystem::path out = "plancheck-sweep";

@@ -558,7 +558,7 @@ Vec3 Checker::target_point(const std::vector<double>& params) const {
   std::reverse(chain.begin(), chain.end());
   for (int a : chain) {
     const Action& act = scene_.actions[static_cast<std::size_t>(a)];
-    t = t * action_transform(act, params.data() + act.first_parameter);
+    t = t * action_transform_at(scene_, act, params);
   }
   return t * node.origin;
 }
