@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "src/progress.h"
 #include "src/sweep.h"
 
 #include "src/error.h"
@@ -231,6 +232,7 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
   request.max_triangle_pairs = 0;
   request.all_contacts = false;
   const auto t_check = std::chrono::steady_clock::now();
+  Progress progress("sweep", total, "configurations", ProgressOptions{.quiet = args.quiet}, &err);
   constexpr std::size_t kBlock = std::size_t{1} << 16;  // rows held before writing
   constexpr std::size_t kRun = 32;                      // states seeded in order
   std::vector<Row> rows;
@@ -260,6 +262,7 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
           }
           row.target = checker.target_point(p);
         }
+        progress.add(std::min(n, (r + 1) * kRun) - r * kRun);
       }
     });
     for (std::size_t i = 0; i < n; ++i) {
@@ -288,6 +291,7 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
           << num(row.target.y() / unit) << "," << num(row.target.z() / unit) << "\n";
     }
   }
+  progress.finish();
   const double check_seconds = seconds_since(t_check);
   if (!csv.flush()) throw InputError(csv_tmp.string() + ": write failed");
   csv.close();

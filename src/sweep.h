@@ -38,6 +38,7 @@ std::vector<SweepAxis> sweep_axes_from_grid(const Scene& scene, const std::strin
 struct SweepArgs {
   std::filesystem::path scene;
   std::optional<long> steps;         // --steps N
+  bool quiet = false;                // no progress on stderr
   std::optional<std::string> grid;   // --grid SPEC
   std::filesystem::path out = "plancheck-sweep";
   int threads = 0;                   // 0: all hardware threads
