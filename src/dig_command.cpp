@@ -36,6 +36,7 @@ int run_dig(const DigArgs& args, std::ostream& out, std::ostream& err) {
   map_request.after = &grid;
   map_request.origin = digger.origin();
   map_request.target = plan.target;
+  if (sum.dug) map_request.deepest = sum.deepest_point;
   map_request.plan_name = plan.name;
   map_request.length_unit = scene.length_unit;
   map_request.length_scale = scene.length_scale;

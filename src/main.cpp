@@ -70,6 +70,7 @@ int main(int argc, char** argv) {
       "--grid", sweep_grid, "NAME=FROM:TO:STEP,... in plan units; parameters not named keep their reference value");
   steps_opt->excludes(grid_opt);
   sweep_cmd->add_option("--out", sweep_out, "folder for sweep.csv and sweep.json")->capture_default_str();
+  sweep_cmd->add_flag("--html", sweep.html, "also write DIR/sweep.html: verdict heat maps, the arm, safe targets; one self-contained file");
   sweep_cmd->add_flag("--quiet", sweep.quiet, "no progress or status lines on stderr");
   sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
 

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "src/output/sweep_html.h"
 #include "src/progress.h"
 #include "src/sweep.h"
 
@@ -236,6 +237,8 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
   constexpr std::size_t kBlock = std::size_t{1} << 16;  // rows held before writing
   constexpr std::size_t kRun = 32;                      // states seeded in order
   std::vector<Row> rows;
+  std::vector<std::uint8_t> page_verdicts;  // --html: every configuration's verdict, the safe ones' targets
+  std::vector<Vec3> page_targets;
   std::vector<double> params;
   std::vector<std::size_t> digits(axes.size());
   for (std::size_t block = 0; block < total; block += kBlock) {
@@ -277,7 +280,9 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
         closest = row;
         closest_index = block + i;
       }
+      if (args.html) page_verdicts.push_back(sweep_verdict_code(row.verdict));
       if (row.verdict == Verdict::kSafe) {
+        if (args.html) page_targets.push_back(row.target);
         for (std::size_t k = 0; k < axes.size(); ++k) ++safe_by_value[k][digits[k]];
         reach_lo = reach_lo.cwiseMin(row.target);
         reach_hi = reach_hi.cwiseMax(row.target);
@@ -359,6 +364,9 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
     f.close();
     std::filesystem::rename(tmp, args.out / "sweep.json");
   }
+
+  std::filesystem::remove(args.out / "sweep.html", ec);
+  if (args.html) write_sweep_html(checker, scene, axes, page_verdicts, page_targets, args.out);
 
   // stdout: the summary in a few lines.
   auto pct = [&](std::size_t c) { return num(std::round(1000.0 * static_cast<double>(c) / static_cast<double>(total)) / 10.0); };

@@ -137,7 +137,7 @@ DigMapResult write_dig_png(const std::filesystem::path& file, const DigMapReques
   const double px_per_sample = static_cast<double>(rq.panel_pixels) / std::max(before.ncols, before.nrows);
   m.panel_w = std::max(1, static_cast<int>(std::lround(before.ncols * px_per_sample)));
   m.panel_h = std::max(1, static_cast<int>(std::lround(before.nrows * px_per_sample)));
-  constexpr int kPad = 16, kTitle = 30, kBars = 74;
+  constexpr int kPad = 16, kTitle = 30, kBars = 88;
   m.panel_y = kTitle;
   for (int k = 0; k < 3; ++k) m.panel_x[k] = kPad + k * (m.panel_w + kPad);
   m.width = 3 * m.panel_w + 4 * kPad;
@@ -178,25 +178,34 @@ DigMapResult write_dig_png(const std::filesystem::path& file, const DigMapReques
     return std::pair{m.panel_x[k] + (c + 0.5) * sx, m.panel_y + (before.nrows - 0.5 - r) * sy};
   };
 
-  // The target: a ringed cross, black under white so it reads on any colour.
-  if (rq.target) {
+  // Markers, black under colour so they read on any background: the target
+  // a ringed cross, the deepest point a ring.
+  bool target_on_map = false;
+  auto mark = [&](const Vec3& p, bool cross, double red, double green, double blue) {
+    bool on = false;
     for (int k = 0; k < 3; ++k) {
-      const auto [x, y] = to_image(k, rq.target->x(), rq.target->y());
+      const auto [x, y] = to_image(k, p.x(), p.y());
       if (x < m.panel_x[k] || x > m.panel_x[k] + m.panel_w || y < m.panel_y || y > m.panel_y + m.panel_h) continue;
+      on = true;
       for (int pass = 0; pass < 2; ++pass) {
         cairo_set_line_width(cr, pass == 0 ? 4.0 : 2.0);
         if (pass == 0) cairo_set_source_rgb(cr, 0, 0, 0);
-        else cairo_set_source_rgb(cr, 1, 0.1, 0.9);
+        else cairo_set_source_rgb(cr, red, green, blue);
         cairo_new_path(cr);
-        cairo_arc(cr, x, y, 7, 0, 2 * M_PI);
-        cairo_move_to(cr, x - 11, y);
-        cairo_line_to(cr, x + 11, y);
-        cairo_move_to(cr, x, y - 11);
-        cairo_line_to(cr, x, y + 11);
+        cairo_arc(cr, x, y, cross ? 7 : 10, 0, 2 * M_PI);
+        if (cross) {
+          cairo_move_to(cr, x - 11, y);
+          cairo_line_to(cr, x + 11, y);
+          cairo_move_to(cr, x, y - 11);
+          cairo_line_to(cr, x, y + 11);
+        }
         cairo_stroke(cr);
       }
     }
-  }
+    return on;
+  };
+  if (rq.deepest) mark(*rq.deepest, false, 1, 1, 1);
+  if (rq.target) target_on_map = mark(*rq.target, true, 1, 0.1, 0.9);
 
   // Scale bar in the first panel's lower left, with a north arrow.
   {
@@ -234,6 +243,18 @@ DigMapResult write_dig_png(const std::filesystem::path& file, const DigMapReques
   colour_bar(cr, m.panel_x[2] + m.panel_w * 0.1, bar_y, m.panel_w * 0.8, 14,
              [](double t) { return diverging(2 * t - 1); }, -m.diff_max / u, m.diff_max / u,
              "height change (" + rq.length_unit + "; blue lowered)");
+
+  // What the markers are.
+  std::string key = rq.deepest ? "white ring: deepest scoop point" : "";
+  if (rq.target) {
+    key += key.empty() ? "" : "; ";
+    key += "magenta cross: target";
+    if (!target_on_map)
+      key += " (off the map: " + fmt(rq.target->x() / u) + ", " + fmt(rq.target->y() / u) + ", " + fmt(rq.target->z() / u) + " " +
+             rq.length_unit + ")";
+  }
+  cairo_set_source_rgb(cr, 0.25, 0.25, 0.25);
+  text(cr, kPad, m.height - 8, key, 11);
 
   cairo_surface_flush(surface.get());
   if (cairo_surface_write_to_png(surface.get(), file.string().c_str()) != CAIRO_STATUS_SUCCESS) fail(file, "cannot write the PNG");

@@ -4,7 +4,8 @@
 // ramp), and after - before (blue lowered, white unchanged, red raised,
 // symmetric scale); under them a colour bar for each scale with its unit, in
 // the first panel a scale bar, and in every panel the plan's target (a
-// ringed cross) when it has one.
+// ringed cross; a note under the panels when it lies off the map) and the
+// deepest scoop point (a ring).
 #pragma once
 
 #include "src/scene.h"
@@ -20,7 +21,8 @@ struct DigMapRequest {
   const Dem* before = nullptr;             // grids in metres
   const Dem* after = nullptr;
   Vec3 origin = Vec3::Zero();              // the terrain's placement (TerrainConfig::origin, m)
-  std::optional<Vec3> target;              // the plan's target (m, reference frame)
+  std::optional<Vec3> target;              // the plan's target (m, reference frame): a ringed cross
+  std::optional<Vec3> deepest;             // where the scoop went deepest (m): a ring
   std::string plan_name;                   // for the "after" title
   std::string length_unit = "m";           // labels are in this unit
   double length_scale = 1.0;               // metres per length_unit

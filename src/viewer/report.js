@@ -334,7 +334,7 @@ export function reportPage(data, root) {
     if (a >= 0) parts1.push(`min distance ${fmt(p.distance[s])} ${unit} (${names[a]} / ${names[b]}) `);
     const contacts = p.contacts[String(s)];
     if (contacts) parts1.push(`· colliding: ${contacts.map((c) => c.parts.map((k) => names[k]).join(' / ')).join(', ')} `);
-    if (p.limit[s] >= 0) parts1.push(`· outside limits: action ${p.limit[s]} `);
+    if (p.limit[s] !== null) parts1.push(`· outside limits: ${p.limit[s]} `);
     if (p.segment_lower_bound && s < p.segment_lower_bound.length && p.segment_lower_bound[s] !== null)
       parts1.push(`· segment to ${s + 1}: ≥ ${fmt(p.segment_lower_bound[s])} ${unit}${p.segment_violation[s] ? ' (violation)' : ''} `);
     if (p.probes) parts1.push('· probes: ' + data.probes.map((pr, k) => `${pr.name} ${fmt(p.probes[s][k][0])}` +
