@@ -75,6 +75,7 @@ export function reportPage(data, root) {
   const highlight = new THREE.Group();
   view.scene.add(highlight);
   const highlightMat = new THREE.MeshBasicMaterial({ color: 0xffff00, side: THREE.DoubleSide, depthTest: false });
+  const edgeMat = new THREE.LineBasicMaterial({ color: 0xffff00, depthTest: false });
   const targetMark = new THREE.Group();
   {
     const m = new THREE.MeshBasicMaterial({ color: 0x00e676, depthTest: false });
@@ -152,7 +153,7 @@ export function reportPage(data, root) {
 
   // Part tree.
   aside.append(el('h2', { text: 'Parts' }));
-  aside.append(partTree(data, parts, terrain, data.probes.length ? probeLines : null, () => view.render()));
+  aside.append(partTree(data, parts, bodyChain, terrain, data.probes.length ? probeLines : null, () => view.render()));
   aside.append(el('p', { class: 'hint', text: 'Keys: ←/→ step, Shift+←/→ 10 steps, Home/End, Space play/pause. Drag to orbit, right-drag to pan, wheel to zoom.' }));
 
   // Timeline.
@@ -274,7 +275,13 @@ export function reportPage(data, root) {
         parts[k].mesh.material.color.copy(COLOR_COLLIDING);
         parts[k].status = 'collision';
         const tris = [...new Set(c.triangles.map((t) => t[side]))];
-        highlight.add(triangleMesh(parts[k], tris, highlightMat));
+        const m = triangleMesh(parts[k], tris, highlightMat);
+        // Their edges too: a sliver triangle shows as its outline.
+        const edges = new THREE.LineSegments(new THREE.EdgesGeometry(m.geometry, 0), edgeMat);
+        edges.matrixAutoUpdate = false;
+        edges.matrix.copy(m.matrix);
+        edges.renderOrder = 9;
+        highlight.add(m, edges);
       });
     }
     // Closest points.
@@ -314,6 +321,12 @@ export function reportPage(data, root) {
     view.render();
   }
 
+  // Markers keep their size on screen (about 1% of the view's height).
+  const dotRadius = size * 0.004;
+  view.beforeRender.push(() => {
+    for (const d of [...dots, scoopDot]) d.scale.setScalar((view.camera.position.distanceTo(d.position) * 0.006) / dotRadius);
+    targetMark.scale.setScalar((view.camera.position.distanceTo(targetMark.position) * 0.03) / (size * 0.02));
+  });
   view.beforeRender.push(() => {
     if (distLabel.style.display === 'none') return;
     const m = new THREE.Vector3().addVectors(dots[0].position, dots[1].position).multiplyScalar(0.5).project(view.camera);
@@ -396,7 +409,7 @@ export function reportPage(data, root) {
     partMatrix: (name) => parts.find((p) => p.name === name)?.mesh.matrix.elements.slice(),
     partStatus: (name) => parts.find((p) => p.name === name)?.status,
     partColor: (name) => parts.find((p) => p.name === name)?.mesh.material.color.getHexString(),
-    highlightTriangles: () => highlight.children.reduce((n, m) => n + m.geometry.attributes.position.count / 3, 0),
+    highlightTriangles: () => highlight.children.filter((m) => m.isMesh).reduce((n, m) => n + m.geometry.attributes.position.count / 3, 0),
     chartPoints: () => (chart ? chart.data[1].length : 0),
     chartClick: (idx) => {
       const x = chart.valToPos(idx, 'x');
@@ -408,11 +421,11 @@ export function reportPage(data, root) {
     focusContact: () => {
       const b = new THREE.Box3().setFromObject(highlight);
       if (b.isEmpty()) return;
-      view.frame(b.expandByScalar(size * 0.02));
+      view.frame(b.expandByScalar(size * 0.04));
     },
     focusClosest: () => {
       const b = new THREE.Box3().setFromPoints([dots[0].position, dots[1].position]);
-      view.frame(b.expandByScalar(size * 0.02));
+      view.frame(b.expandByScalar(size * 0.04));
     },
     redPixels: () => {
       const px = view.pixels();
@@ -525,7 +538,7 @@ function makeTerrain(t, scene) {
   };
 }
 
-function partTree(data, parts, terrain, probeLines, render) {
+function partTree(data, parts, bodyChain, terrain, probeLines, render) {
   const box = el('div', { class: 'tree', id: 'parttree' });
   const nodes = data.nodes;
   // Parts under each node, for a node's checkbox.
@@ -545,9 +558,9 @@ function partTree(data, parts, terrain, probeLines, render) {
       cb.parentElement.parentElement.querySelectorAll('input').forEach((x) => { x.checked = cb.checked; });
       render();
     });
-    const moving = n.part >= 0 && parts[n.part].chain >= 0;
+    const moving = n.part >= 0 && parts[n.part].chain >= 0 && parts[n.part].chain !== bodyChain;
     const label = el('label', { class: n.part >= 0 && !moving ? 'static' : '' }, cb, ' ' + n.name +
-      (n.part >= 0 ? ` (${parts[n.part].triangles.toLocaleString()} tri${moving ? ', moving' : ''})` : ''));
+      (n.part >= 0 ? ` (${parts[n.part].triangles.toLocaleString()} tri${moving ? ', arm' : ''})` : ''));
     const li = el('li', {}, label);
     const sub = kids[i].map(item).filter((x) => x);
     if (sub.length) li.append(el('ul', {}, ...sub));
