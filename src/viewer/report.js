@@ -74,7 +74,7 @@ export function reportPage(data, root) {
   view.scene.add(segment, ...dots);
   const highlight = new THREE.Group();
   view.scene.add(highlight);
-  const highlightMat = new THREE.MeshBasicMaterial({ color: 0xffff00, side: THREE.DoubleSide, depthTest: false });
+  const highlightMat = new THREE.MeshBasicMaterial({ color: 0xffff00, side: THREE.DoubleSide, depthTest: false, transparent: true, opacity: 0.55 });
   const edgeMat = new THREE.LineBasicMaterial({ color: 0xffff00, depthTest: false });
   const targetMark = new THREE.Group();
   {
@@ -200,7 +200,7 @@ export function reportPage(data, root) {
     const p = current();
     const n = p.summary.states;
     const xs = Array.from({ length: n }, (_, k) => k);
-    const viol = p.verdict.map((v, k) => (v === 1 || v === 2 ? (p.distance[k] ?? 0) : null));
+    const viol = p.verdict.map((v, k) => (v !== 0 ? (p.distance[k] ?? 0) : null));
     const series = [{ label: 'state' },
       { label: `min distance (${unit})`, stroke: '#8ab4f8', width: 1.5, points: { show: false } },
       { label: 'margin', stroke: '#ffa000', dash: [6, 4], width: 1, points: { show: false } },
@@ -209,6 +209,9 @@ export function reportPage(data, root) {
     if (p.segment_lower_bound) {
       series.push({ label: 'segment lower bound', stroke: '#80cbc4', width: 1, paths: uPlot.paths.stepped({ align: 1 }), points: { show: false } });
       cols.push(p.segment_lower_bound);
+      // Segments that violate, drawn at their lower bound (the segment starts at the state).
+      series.push({ label: 'segment violation', stroke: '#ff6e40', width: 0, paths: () => null, points: { show: true, size: 7, fill: '#ff6e40' } });
+      cols.push(p.segment_lower_bound.map((v, k) => (p.segment_violation[k] ? (v ?? 0) : null)));
     }
     const width = Math.max(300, chartBox.clientWidth || bottom.clientWidth - 20);
     chart = new uPlot({

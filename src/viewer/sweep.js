@@ -108,7 +108,8 @@ export function sweepPage(data, root) {
     }
     sliceCells.forEach((c, k) => { c.textContent = String(slice[k]); });
     const ax = axes[state.x], ay = axes[state.y];
-    heatTitle.textContent = `${ay.name} (${fmt(ay.values[0])} … ${fmt(ay.values[ay.count - 1])}, up) over ${ax.name} (${fmt(ax.values[0])} … ${fmt(ax.values[ax.count - 1])}, right)`;
+    const range = (a) => `${a.name} (${fmt(a.values[0])} … ${fmt(a.values[a.count - 1])}`;
+    heatTitle.textContent = state.x === state.y ? `${range(ax)}, right)` : `${range(ay)}, up) over ${range(ax)}, right)`;
     return slice;
   }
   heat.addEventListener('mousemove', (e) => {
