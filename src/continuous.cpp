@@ -12,6 +12,7 @@
 #include "src/continuous.h"
 
 #include "src/parallel.h"
+#include "src/plan.h"
 
 #include <algorithm>
 #include <cmath>
@@ -45,18 +46,6 @@ Sample to_sample(double t, const StateResult& s) {
     out.b = s.part_b;
   }
   return out;
-}
-
-void interpolate(const std::vector<double>& qa, const std::vector<double>& qb, double t, std::vector<double>& out) {
-  // The ends are the states themselves, bit for bit.
-  if (t == 0.0) {
-    out = qa;
-  } else if (t == 1.0) {
-    out = qb;
-  } else {
-    out.resize(qa.size());
-    for (std::size_t j = 0; j < qa.size(); ++j) out[j] = qa[j] + t * (qb[j] - qa[j]);
-  }
 }
 
 }  // namespace
@@ -117,7 +106,7 @@ SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::ve
   auto sample_at = [&](double t) -> const Sample& {
     auto it = samples.find(t);
     if (it != samples.end()) return it->second;
-    interpolate(qa, qb, t, q);
+    state_between(qa, qb, t, q);
     exact(q);
     return samples.emplace(t, to_sample(t, r)).first->second;
   };
@@ -135,8 +124,8 @@ SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::ve
       stack.pop_back();
       const Sample& a = samples.at(ta);
       const Sample& b = samples.at(tb);
-      interpolate(qa, qb, ta, q);
-      interpolate(qa, qb, tb, q2);
+      state_between(qa, qb, ta, q);
+      state_between(qa, qb, tb, q2);
       const double m = pair_bound(q, q2);
       const double lb = std::min({a.d, b.d, 0.5 * (a.d + b.d - m)});
       if (lb >= target + std::max(a.tolerance, b.tolerance)) {

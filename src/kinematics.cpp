@@ -11,20 +11,25 @@
 
 namespace plancheck {
 
+double pose_value(const Action& action, double written) {
+  if (action.whole_turn > 0.0) return std::remainder(written, action.whole_turn) * action.unit_to_si;
+  return written * action.unit_to_si;
+}
+
 Affine action_transform(const Action& action, const double* params) {
   Affine t = Affine::Identity();
   switch (action.type) {
     case ActionType::kRotate:
       // x' = R(u, a)(x - p) + p, right-handed about the unit axis u.
       t.translate(action.pivot);
-      t.rotate(Eigen::AngleAxisd(params[0], action.axis));
+      t.rotate(Eigen::AngleAxisd(pose_value(action, params[0]), action.axis));
       t.translate(-action.pivot);
       break;
     case ActionType::kTranslateAxis:
-      t.translate(action.axis * params[0]);
+      t.translate(action.axis * pose_value(action, params[0]));
       break;
     case ActionType::kTranslateFree:
-      t.translate(Vec3(params[0], params[1], params[2]));
+      t.translate(Vec3(pose_value(action, params[0]), pose_value(action, params[1]), pose_value(action, params[2])));
       break;
     case ActionType::kScale:
       t.translate(action.fixed_point);

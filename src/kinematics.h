@@ -10,8 +10,13 @@
 
 namespace plancheck {
 
-// The transform of one action at its driving parameters (SI units),
-// params pointing at the action's first parameter.
+// The transform of one action at its driving parameters as written (plan
+// units), params pointing at the action's first parameter. This is the one
+// place a written value becomes a pose: degrees lose whole turns exactly
+// (std::remainder by 360 is exact in binary floating point, so k * 360 deg
+// poses exactly like 0 and 1e300 deg turns by its true remainder), then
+// convert to radians; lengths are scaled to metres; factors stay as they are.
+// The value that drives a motion or meets a limit is never reduced.
 Affine action_transform(const Action& action, const double* params);
 
 // out[c] = A1 * A2 * ... * Ak for every chain c of scene.chains (root first),
@@ -21,7 +26,13 @@ void chain_transforms(const Scene& scene, std::span<const double> params, std::v
 // The transform that poses part `part` (identity for static parts).
 Affine part_transform(const Scene& scene, int part, std::span<const double> params);
 
-// Index of the first action whose parameter lies outside its limits, or -1.
+// An action's parameter as the pose uses it: rad for a rotation (whole turns
+// removed first when written in degrees), m for a translation, the factor for
+// a scale.
+double pose_value(const Action& action, double written);
+
+// Index of the first action whose parameter lies outside its limits, or -1
+// (written values against limits as written).
 int first_limit_violation(const Scene& scene, std::span<const double> params);
 
 // True when the linear part is orthonormal with determinant +1 to rounding.

@@ -82,21 +82,24 @@ double MotionBound::part_bound(int part, std::span<const double> qa, std::span<c
     switch (a.type) {
       case ActionType::kRotate: {
         const double arm = innermost ? e.inner_arm : line_distance(z, a.pivot, a.axis) + rho;
-        contribution[n] = std::abs(qb[f] - qa[f]) * arm;
+        // The angle turned is the written difference, converted: 0 -> 720 deg
+        // is two turns, never none (whole turns are removed only for the pose).
+        contribution[n] = std::abs(qb[f] - qa[f]) * a.unit_to_si * arm;
         rho = innermost ? e.inner_radius : (z - a.pivot).norm() + rho;
         z = a.pivot;
         break;
       }
       case ActionType::kTranslateAxis: {
         const double un = a.axis.norm();
-        contribution[n] = std::abs(qb[f] - qa[f]) * un;
-        z += a.axis * (0.5 * (qa[f] + qb[f]));
-        rho += 0.5 * std::abs(qb[f] - qa[f]) * un;
+        const double u = a.unit_to_si;
+        contribution[n] = std::abs(qb[f] - qa[f]) * u * un;
+        z += a.axis * (0.5 * (qa[f] + qb[f]) * u);
+        rho += 0.5 * std::abs(qb[f] - qa[f]) * u * un;
         break;
       }
       case ActionType::kTranslateFree: {
-        const Vec3 da(qa[f], qa[f + 1], qa[f + 2]);
-        const Vec3 db(qb[f], qb[f + 1], qb[f + 2]);
+        const Vec3 da = Vec3(qa[f], qa[f + 1], qa[f + 2]) * a.unit_to_si;
+        const Vec3 db = Vec3(qb[f], qb[f + 1], qb[f + 2]) * a.unit_to_si;
         contribution[n] = (db - da).norm();
         z += 0.5 * (da + db);
         rho += 0.5 * (db - da).cwiseAbs().norm();

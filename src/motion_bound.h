@@ -20,7 +20,7 @@ class MotionBound {
   explicit MotionBound(const Scene& scene);
 
   // An upper bound (m) on the length of the path of every point of `part`
-  // while the parameters go linearly from qa to qb (full vectors, SI). 0 for
+  // while the parameters go linearly from qa to qb (full vectors, as written). 0 for
   // static parts. Padded for rounding; +infinity when an input is not finite.
   double part_bound(int part, std::span<const double> qa, std::span<const double> qb) const;
 

@@ -9,6 +9,9 @@
 //   state and must parse.
 // - A target without a "# tolerance:" gets kDefaultTargetTolerance (plan.h).
 // - Scale factors must be positive (the scene contract makes factor <= 0 an error).
+// - Driving values are kept as written (plan units, never reduced): they drive
+//   the motion between states and meet the limits; kinematics converts them
+//   only to pose (action_transform). Target and tolerance are lengths: metres.
 #include "src/plan.h"
 
 #include "src/error.h"
@@ -51,32 +54,17 @@ bool parse_finite(std::string_view s, double& value) {
   return ec == std::errc() && ptr == s.data() + s.size() && std::isfinite(value);
 }
 
-// A rotation angle in degrees, in radians. Whole turns are removed first,
-// exactly (std::remainder by 360 is exact in binary floating point), so
-// k * 360 deg poses exactly like 0 deg and a huge angle (1e6, 1e300 deg)
-// turns by its true remainder, instead of by v * pi/180 rounded: fl(2 pi)
-// has a sine of -2.4e-16, enough to lift a touching contact free, and for
-// |v| beyond 2^53 the rounding of the product is a random angle. The limit
-// check sees the angle as written: the reduced value is used only when it
-// is within the action's limits exactly when the written one is (always,
-// without limits). Radians are used as given: a whole turn is not a double.
-double degrees_to_radians(double v, double scale, const Action& a) {
-  const double written = v * scale;
-  const double reduced = std::remainder(v, 360.0) * scale;
-  auto within = [&](double x) { return !a.has_limits || (x >= a.lower && x <= a.upper); };
-  return within(reduced) == within(written) ? reduced : written;
-}
-
 }  // namespace
 
-double parameter_to_si(const Scene& scene, int parameter, double value) {
-  for (const Action& a : scene.actions) {
-    if (parameter < a.first_parameter || parameter >= a.first_parameter + a.parameter_count) continue;
-    if (a.type == ActionType::kRotate)
-      return scene.angle_unit == "deg" ? degrees_to_radians(value, scene.angle_scale, a) : value * scene.angle_scale;
-    return a.type == ActionType::kScale ? value : value * scene.length_scale;
+void state_between(const std::vector<double>& qa, const std::vector<double>& qb, double t, std::vector<double>& out) {
+  if (t == 0.0) {
+    out = qa;
+  } else if (t == 1.0) {
+    out = qb;
+  } else {
+    out.resize(qa.size());
+    for (std::size_t j = 0; j < qa.size(); ++j) out[j] = qa[j] + t * (qb[j] - qa[j]);
   }
-  return value;
 }
 
 Plan load_plan(const Scene& scene, const std::filesystem::path& csv) {
@@ -98,9 +86,7 @@ Plan parse_plan(const Scene& scene, std::string_view text, const std::filesystem
   // Per column: index into the state vector, or -1 for the time column.
   std::vector<int> column_parameter;
   std::vector<std::string> column_name;
-  std::vector<double> column_scale;       // plan unit -> SI
   std::vector<bool> column_is_factor;     // scale factors must be positive
-  std::vector<const Action*> column_turns;  // rotations in degrees: whole turns removed exactly
   long header_line = 0;
 
   std::string_view rest = text;
@@ -148,9 +134,7 @@ Plan parse_plan(const Scene& scene, std::string_view text, const std::filesystem
           if (c != 0) fail(csv, "column 'time' must be the first column", line_no, column);
           column_parameter.push_back(-1);
           column_name.push_back(name);
-          column_scale.push_back(1.0);
           column_is_factor.push_back(false);
-          column_turns.push_back(nullptr);
           continue;
         }
         int index = -1;
@@ -164,19 +148,11 @@ Plan parse_plan(const Scene& scene, std::string_view text, const std::filesystem
         used[index] = true;
         column_parameter.push_back(index);
         column_name.push_back(name);
-        // Which action owns the parameter decides its unit.
-        double scale = 1.0;
         bool factor = false;
-        const Action* turns = nullptr;
-        for (const Action& a : scene.actions) {
-          if (index < a.first_parameter || index >= a.first_parameter + a.parameter_count) continue;
-          factor = a.type == ActionType::kScale;
-          scale = a.type == ActionType::kRotate ? scene.angle_scale : factor ? 1.0 : scene.length_scale;
-          if (a.type == ActionType::kRotate && scene.angle_unit == "deg") turns = &a;
-        }
-        column_scale.push_back(scale);
+        for (const Action& a : scene.actions)
+          if (index >= a.first_parameter && index < a.first_parameter + a.parameter_count)
+            factor = a.type == ActionType::kScale;
         column_is_factor.push_back(factor);
-        column_turns.push_back(turns);
       }
       continue;
     }
@@ -200,8 +176,7 @@ Plan parse_plan(const Scene& scene, std::string_view text, const std::filesystem
       }
       if (column_is_factor[c] && !(v > 0))
         fail(csv, "column '" + column_name[c] + "': scale factor must be positive", line_no, column);
-      state[static_cast<std::size_t>(p)] =
-          column_turns[c] ? degrees_to_radians(v, column_scale[c], *column_turns[c]) : v * column_scale[c];
+      state[static_cast<std::size_t>(p)] = v;  // as written: only the pose converts it
     }
     plan.states.push_back(std::move(state));
     plan.lines.push_back(line_no);

@@ -22,14 +22,17 @@ struct Plan {
   std::optional<Vec3> target;              // "# target:" (m, reference frame)
   double tolerance = 0.0;                  // "# tolerance:" (m); default kDefaultTargetTolerance
   std::vector<double> times;               // the optional time column (s); empty without it
-  std::vector<std::vector<double>> states; // full parameter vectors (SI), scene.parameter_names order
+  // Full parameter vectors in scene.parameter_names order, each value as
+  // written in the plan (plan units: 200 deg is 200, 720 is two turns).
+  std::vector<std::vector<double>> states;
   std::vector<long> lines;                 // file line of each state, for messages
 };
 
-// A value written for driving parameter `parameter` (plan units), in SI, as
-// a plan column reads it: degrees lose whole turns exactly (see plan.cpp),
-// lengths are scaled by length_unit, factors stay as they are.
-double parameter_to_si(const Scene& scene, int parameter, double value);
+// The contract's motion between two states: each driving parameter moves
+// linearly from its value as written in qa to its value as written in qb;
+// out is the state at t in [0, 1]. The ends are the states, bit for bit.
+// (Only the pose reduces an angle: kinematics.h, pose_value.)
+void state_between(const std::vector<double>& qa, const std::vector<double>& qb, double t, std::vector<double>& out);
 
 // Throws InputError naming the file, line and column at fault.
 Plan load_plan(const Scene& scene, const std::filesystem::path& csv);

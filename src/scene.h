@@ -44,7 +44,11 @@ struct Node {
 
 enum class ActionType { kRotate, kTranslateAxis, kTranslateFree, kScale };
 
-// One action of the paper's Table 1, already in SI units.
+// One action of the paper's Table 1. Its geometry (pivot, axis, fixed point)
+// is in SI units; its driving parameters and limits are in plan units, as
+// written (contract: the motion between states is linear in the written
+// values). unit_to_si and whole_turn convert a written value where it is
+// used to pose (kinematics) or to bound a motion (motion_bound), never before.
 struct Action {
   std::string name;            // plan column (or column prefix for x/y/z parameters)
   std::string node_name;
@@ -54,8 +58,10 @@ struct Action {
   Vec3 axis = Vec3::UnitZ();   // rotate / translate-with-axis: unit direction
   Vec3 fixed_point = Vec3::Zero();  // scale: the point that stays put (m)
   bool has_limits = false;
-  double lower = -std::numeric_limits<double>::infinity();  // rad or m
-  double upper = std::numeric_limits<double>::infinity();   // rad or m
+  double lower = -std::numeric_limits<double>::infinity();  // plan units, as written
+  double upper = std::numeric_limits<double>::infinity();   // plan units, as written
+  double unit_to_si = 1.0;     // plan unit -> rad (rotate) or m (translate); 1 for scale factors
+  double whole_turn = 0.0;     // rotate in degrees: 360 (removed exactly before sin/cos); else 0
   int first_parameter = 0;     // index of its first driving parameter in a state vector
   int parameter_count = 1;     // 1 (rotate, translate with axis) or 3 (free translate, scale)
 };
@@ -125,7 +131,7 @@ struct Scene {
 
   // Driving parameters in plan-column order: "J1", "Boom", "Mast.x", ...
   std::vector<std::string> parameter_names;
-  std::vector<double> reference_parameters;  // 0 for rotate/translate, 1 for scale (SI)
+  std::vector<double> reference_parameters;  // 0 for rotate/translate, 1 for scale (plan units)
 
   std::vector<CheckedPair> checked_pairs;
   double safety_margin = 0.0;        // m

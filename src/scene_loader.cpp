@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Scene JSON (plancheck-scene/1) -> Scene: strict reading (unknown keys and
-// wrong types are errors naming the key path), units converted to SI, actions
+// wrong types are errors naming the key path), geometry converted to SI
+// (driving parameters and limits stay in plan units, as written), actions
 // resolved against the model's node tree, chains and checked pairs derived.
 #include "src/scene_loader.h"
 
@@ -209,7 +210,6 @@ void read_actions(const Reader& r, const Json& list, Scene& scene) {
     auto unit_axis = [&]() {
       return unit_direction(r, r.vec3(j["axis"], where + ".axis"), where + ".axis", "zero-length axis");
     };
-    double limit_scale = 1.0;
     if (type == "rotate") {
       require("pivot");
       require("axis");
@@ -217,7 +217,8 @@ void read_actions(const Reader& r, const Json& list, Scene& scene) {
       a.type = ActionType::kRotate;
       a.pivot = r.vec3(j["pivot"], where + ".pivot") * scene.length_scale;
       a.axis = unit_axis();
-      limit_scale = scene.angle_scale;
+      a.unit_to_si = scene.angle_scale;
+      a.whole_turn = scene.angle_unit == "deg" ? 360.0 : 0.0;
     } else if (type == "translate") {
       forbid("pivot");
       forbid("fixed_point");
@@ -228,15 +229,14 @@ void read_actions(const Reader& r, const Json& list, Scene& scene) {
         a.type = ActionType::kTranslateFree;
         a.parameter_count = 3;
       }
-      limit_scale = scene.length_scale;
+      a.unit_to_si = scene.length_scale;
     } else if (type == "scale") {
       require("fixed_point");
       forbid("pivot");
       forbid("axis");
       a.type = ActionType::kScale;
       a.fixed_point = r.vec3(j["fixed_point"], where + ".fixed_point") * scene.length_scale;
-      a.parameter_count = 3;
-      limit_scale = 1.0;  // scale factors have no unit
+      a.parameter_count = 3;  // scale factors have no unit: unit_to_si stays 1
     } else {
       r.error(where + ".type", "unknown action type '" + type + "' (expected rotate, translate or scale)");
     }
@@ -249,8 +249,8 @@ void read_actions(const Reader& r, const Json& list, Scene& scene) {
       if (a.type == ActionType::kScale && lower <= 0.0)
         r.error(where + ".limits", "scale factors must be positive");
       a.has_limits = true;
-      a.lower = lower * limit_scale;
-      a.upper = upper * limit_scale;
+      a.lower = lower;  // as written: limits compare with the written values
+      a.upper = upper;
     }
     Node& node = scene.nodes[a.node];
     for (int other : node.actions) {

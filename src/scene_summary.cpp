@@ -98,11 +98,9 @@ void print_scene_summary(const Scene& scene, std::ostream& out) {
   for (const Action& a : scene.actions) {
     out << "  " << a.name << "  " << type_name(a) << "  node " << a.node_name << "  limits ";
     if (a.has_limits) {
-      const double unit = a.type == ActionType::kRotate ? scene.angle_scale
-                          : a.type == ActionType::kScale ? 1.0 : scene.length_scale;
       const std::string unit_name = a.type == ActionType::kRotate ? scene.angle_unit
                                     : a.type == ActionType::kScale ? "" : scene.length_unit;
-      out << "[" << a.lower / unit << ", " << a.upper / unit << "]" << (unit_name.empty() ? "" : " ") << unit_name;
+      out << "[" << a.lower << ", " << a.upper << "]" << (unit_name.empty() ? "" : " ") << unit_name;
     } else {
       out << "none";
     }

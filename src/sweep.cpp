@@ -27,17 +27,6 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-// Plan unit -> SI for one driving parameter (as plan CSV columns read it).
-double parameter_scale(const Scene& scene, int parameter, bool* factor) {
-  for (const Action& a : scene.actions) {
-    if (parameter < a.first_parameter || parameter >= a.first_parameter + a.parameter_count) continue;
-    *factor = a.type == ActionType::kScale;
-    return a.type == ActionType::kRotate ? scene.angle_scale : *factor ? 1.0 : scene.length_scale;
-  }
-  *factor = false;
-  return 1.0;
-}
-
 const Action* parameter_action(const Scene& scene, int parameter) {
   for (const Action& a : scene.actions)
     if (parameter >= a.first_parameter && parameter < a.first_parameter + a.parameter_count) return &a;
@@ -97,11 +86,9 @@ std::vector<SweepAxis> sweep_axes_from_steps(const Scene& scene, long steps) {
     if (!a || !a->has_limits) continue;
     SweepAxis axis;
     axis.parameter = static_cast<int>(p);
-    bool factor = false;
-    axis.scale = parameter_scale(scene, axis.parameter, &factor);
     axis.spec = "limits";
-    // SI values straight from the limits, the ends exact: a value rounded
-    // past a limit would show as a limits violation that is not there.
+    // Values straight from the limits (as written), the ends exact: a value
+    // rounded past a limit would show as a limits violation that is not there.
     const double lo = a->lower, hi = a->upper;
     for (long i = 0; i < steps; ++i) {
       const double t = static_cast<double>(i) / static_cast<double>(steps - 1);
@@ -152,13 +139,13 @@ std::vector<SweepAxis> sweep_axes_from_grid(const Scene& scene, const std::strin
       grid_error(item, "more than " + std::to_string(kMaxSweepConfigurations) + " values");
     SweepAxis axis;
     axis.parameter = parameter;
-    bool factor = false;
-    axis.scale = parameter_scale(scene, parameter, &factor);
+    const Action* owner = parameter_action(scene, parameter);
+    const bool factor = owner && owner->type == ActionType::kScale;
     axis.spec = item;
     for (long i = 0; i <= static_cast<long>(n); ++i) {
       const double v = std::min(to, from + step * static_cast<double>(i));
       if (factor && !(v > 0.0)) grid_error(item, "scale factors must be positive");
-      axis.values.push_back(parameter_to_si(scene, parameter, v));
+      axis.values.push_back(v);  // as written, like a plan column
     }
     axes.push_back(std::move(axis));
   }
@@ -288,7 +275,7 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
         reach_hi = reach_hi.cwiseMax(row.target);
       }
       for (std::size_t k = 0; k < axes.size(); ++k)
-        csv << num(params[static_cast<std::size_t>(axes[k].parameter)] / axes[k].scale) << ",";
+        csv << num(params[static_cast<std::size_t>(axes[k].parameter)]) << ",";
       csv << verdict_name(row.verdict) << "," << (row.collision ? 1 : 0) << ","
           << num(row.collision ? 0.0 : row.min_distance / unit) << ","
           << (row.part_a >= 0 ? checker.part_name(row.part_a) : "") << ","
@@ -316,7 +303,7 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
     const SweepAxis& a = axes[k];
     Json values = Json::array(), safe_counts = Json::array();
     for (std::size_t v = 0; v < a.values.size(); ++v) {
-      values.push_back(a.values[v] / a.scale);
+      values.push_back(a.values[v]);
       safe_counts.push_back(safe_by_value[k][v]);
     }
     jaxes.push_back({{"name", scene.parameter_names[static_cast<std::size_t>(a.parameter)]},
@@ -343,7 +330,7 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
     Json at = Json::object();
     for (const SweepAxis& a : axes)
       at[scene.parameter_names[static_cast<std::size_t>(a.parameter)]] =
-          params[static_cast<std::size_t>(a.parameter)] / a.scale;
+          params[static_cast<std::size_t>(a.parameter)];
     j["min_distance"] = {{"distance", closest.min_distance / unit},
                          {"parts", {checker.part_name(closest.part_a), checker.part_name(closest.part_b)}},
                          {"at", at}};

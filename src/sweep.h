@@ -22,8 +22,7 @@ inline constexpr std::size_t kMaxSweepConfigurations = 20'000'000;
 // One swept driving parameter and its values.
 struct SweepAxis {
   int parameter = -1;               // index into Scene::parameter_names
-  double scale = 1.0;               // plan unit -> SI (the scene's angle or length unit; 1 for factors)
-  std::vector<double> values;       // SI, in sweep order
+  std::vector<double> values;       // as written (plan units, like a plan column), in sweep order
   std::string spec;                 // as the user wrote it, or "limits"
 };
 

@@ -149,7 +149,7 @@ struct StateSeed {
   int pair = -1;  // index into the checked pairs; -1: none
   std::uint32_t slot_a = 0, slot_b = 0;
   // Per checked pair, a proven lower bound (m) on its distance at the
-  // parameters `at` (SI); empty: nothing cached.
+  // parameters `at` (as written); empty: nothing cached.
   std::vector<double> separation;
   std::vector<double> at;
 };
@@ -186,7 +186,7 @@ class Checker {
     return out;
   }
 
-  // Checks one configuration (a full parameter vector, SI) against every
+  // Checks one configuration (a full parameter vector, as written) against every
   // checked pair, the terrain pairs against the undisturbed terrain.
   // seed (optional, in/out): read as the hint, then set to this state's
   // closest pair for the next state.

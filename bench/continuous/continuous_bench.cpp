@@ -59,7 +59,6 @@ std::vector<Segment> grazing_set(const Checker& checker, const std::vector<Plan>
   std::vector<Segment> out;
   std::mt19937_64 rng(11);
   std::normal_distribution<double> normal;
-  const double deg = 3.14159265358979323846 / 180.0;
   for (std::size_t p = 0; p < plans.size(); ++p)
     for (std::size_t s = 0; s < plans[p].states.size(); ++s) {
       const StateResult& st = results[p].states[s];
@@ -80,8 +79,8 @@ std::vector<Segment> grazing_set(const Checker& checker, const std::vector<Plan>
         for (double a = 1.0; a <= 64.0; a *= 2.0) {
           Segment g{mid, mid, {}, {}};
           for (std::size_t j = 0; j < mid.size(); ++j) {
-            g.qa[j] -= a * deg * u[j];
-            g.qb[j] += a * deg * u[j];
+            g.qa[j] -= a * u[j];  // states are in plan units: degrees here
+            g.qb[j] += a * u[j];
           }
           checker.check_state(g.qa, g.sa);
           checker.check_state(g.qb, g.sb);

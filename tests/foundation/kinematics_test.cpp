@@ -36,7 +36,8 @@ std::filesystem::path write_arm_scene(const testing::TempDir& dir, const std::st
       {"name": "Grow", "node": "tip", "type": "scale", "fixed_point": [)" + n(2) + R"(, 0, 0]}]})");
 }
 
-// Parameters in SI: J1, J2 (rad), Ext (m), Grow.x/y/z.
+// Parameters as a plan writes them: J1, J2 (the scene's angle unit), Ext
+// (its length unit), Grow.x/y/z.
 std::vector<double> params(double j1, double j2, double ext, Vec3 grow) {
   return {j1, j2, ext, grow.x(), grow.y(), grow.z()};
 }
@@ -45,7 +46,7 @@ TEST(Kinematics, HandComputedPoseOfTheTip) {
   testing::TempDir dir;
   const Scene s = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
   ASSERT_EQ(s.parameter_names, (std::vector<std::string>{"J1", "J2", "Ext", "Grow.x", "Grow.y", "Grow.z"}));
-  const auto p = params(kPi / 2, kPi / 2, 0.5, {2, 1, 1});
+  const auto p = params(90, 90, 0.5, {2, 1, 1});
   const Affine t = part_transform(s, s.find_part("tip"), p);
   // Tip corner (2.25, 0.125, 0.25):
   //   Grow about (2,0,0) by (2,1,1)       -> (2.5, 0.125, 0.25)
@@ -119,30 +120,64 @@ TEST(Kinematics, SameAnswersInMetresCentimetresAndMillimetres) {
   const Scene m = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
   const Scene cm = load_scene(write_arm_scene(dir, "cm", 100.0, "deg"));
   const Scene mm = load_scene(write_arm_scene(dir, "mm", 1000.0, "rad"));
-  const auto p = params(0.4, -0.9, 0.2, {1.2, 0.8, 1.1});  // SI: identical for every scene
+  // The same pose written in each scene's units.
+  const double deg = 180 / kPi;
+  const auto p = params(0.4 * deg, -0.9 * deg, 0.2, {1.2, 0.8, 1.1});
+  const auto p_cm = params(0.4 * deg, -0.9 * deg, 20, {1.2, 0.8, 1.1});
+  const auto p_mm = params(0.4, -0.9, 200, {1.2, 0.8, 1.1});
   for (const Scene* other : {&cm, &mm}) {
+    const auto& q = other == &cm ? p_cm : p_mm;
     for (std::size_t i = 0; i < m.parts.size(); ++i) {
       const Part& a = m.parts[i];
       const Part& b = other->parts[i];
       ASSERT_EQ(a.name, b.name);
       ASSERT_EQ(a.mesh.vertices.size(), b.mesh.vertices.size());
       const Affine ta = part_transform(m, static_cast<int>(i), p);
-      const Affine tb = part_transform(*other, static_cast<int>(i), p);
+      const Affine tb = part_transform(*other, static_cast<int>(i), q);
       for (std::size_t v = 0; v < a.mesh.vertices.size(); ++v)
         EXPECT_LT((ta * a.mesh.vertices[v] - tb * b.mesh.vertices[v]).norm(), 1e-9) << a.name;
     }
-    EXPECT_NEAR(other->actions[2].upper, 0.5, 1e-15);  // Ext limit, metres
+    EXPECT_EQ(other->actions[2].upper, other == &cm ? 50.0 : 500.0);  // Ext limit as written
   }
+  EXPECT_EQ(m.actions[0].upper, 90.0);
   EXPECT_NEAR(mm.actions[0].upper, kPi / 2, 1e-6);  // written with 6 decimals in rad
 }
 
-TEST(Kinematics, LimitsCompareInSi) {
+// Whole turns in degrees are removed exactly, and only for the pose: 720 poses
+// exactly as 0, 1e300 by its exact remainder; radians are used as given.
+TEST(Kinematics, WholeTurnsInDegreesPoseExactlyAndOnlyThePose) {
   testing::TempDir dir;
   const Scene s = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
-  const double deg = kPi / 180;
-  EXPECT_EQ(first_limit_violation(s, params(90 * deg, 0, 0.5, {1, 1, 1})), -1);  // on the limit is inside
-  EXPECT_EQ(first_limit_violation(s, params(-90 * deg, 0, 0, {1, 1, 1})), -1);
-  EXPECT_EQ(first_limit_violation(s, params(90.001 * deg, 0, 0, {1, 1, 1})), 0);
+  const int tip = s.find_part("tip");
+  for (double turns : {-3.0, -1.0, 1.0, 2.0, 1e6}) {
+    const Affine a = part_transform(s, tip, params(30, -45, 0.1, {1, 1, 1}));
+    const Affine b = part_transform(s, tip, params(30 + 360 * turns, -45 - 360 * turns, 0.1, {1, 1, 1}));
+    EXPECT_EQ(a.matrix(), b.matrix()) << turns;
+  }
+  EXPECT_TRUE(part_transform(s, tip, params(720, -1080, 0, {1, 1, 1})).matrix().isIdentity(0.0));
+  // 1e300 = 360 k + r exactly for some integer k; r = std::remainder(1e300, 360).
+  const double r = std::remainder(1e300, 360.0);
+  EXPECT_EQ(part_transform(s, tip, params(1e300, 0, 0, {1, 1, 1})).matrix(),
+            part_transform(s, tip, params(r, 0, 0, {1, 1, 1})).matrix());
+  EXPECT_EQ(pose_value(s.actions[0], 200), std::remainder(200.0, 360.0) * kPi / 180);  // -160 deg in rad
+  EXPECT_EQ(pose_value(s.actions[2], 0.25), 0.25);                                    // metres
+  const Scene mm = load_scene(write_arm_scene(dir, "mm", 1000.0, "rad"));
+  EXPECT_EQ(pose_value(mm.actions[0], 7.0), 7.0);     // radians: not reduced (a turn is not a double)
+  EXPECT_EQ(pose_value(mm.actions[2], 250.0), 0.25);  // millimetres to metres
+}
+
+TEST(Kinematics, LimitsCompareAsWritten) {
+  testing::TempDir dir;
+  const Scene s = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
+  EXPECT_EQ(first_limit_violation(s, params(90, 0, 0.5, {1, 1, 1})), -1);  // on the limit is inside
+  EXPECT_EQ(first_limit_violation(s, params(-90, 0, 0, {1, 1, 1})), -1);
+  EXPECT_EQ(first_limit_violation(s, params(90.001, 0, 0, {1, 1, 1})), 0);
+  // 450 and -270 pose like 90, but as written they are past the limit.
+  EXPECT_EQ(first_limit_violation(s, params(450, 0, 0, {1, 1, 1})), 0);
+  EXPECT_EQ(first_limit_violation(s, params(-270, 0, 0, {1, 1, 1})), 0);
+  const Scene cm = load_scene(write_arm_scene(dir, "cm", 100.0, "deg"));
+  EXPECT_EQ(first_limit_violation(cm, params(0, 0, 50, {1, 1, 1})), -1);  // 50 cm: on the limit
+  EXPECT_EQ(first_limit_violation(cm, params(0, 0, 50.001, {1, 1, 1})), 2);
   EXPECT_EQ(first_limit_violation(s, params(0, 0, 0.5001, {1, 1, 1})), 2);
   EXPECT_EQ(first_limit_violation(s, params(0, 5, -0.1, {1, 1, 1})), 2);  // J2 has no limits
   EXPECT_EQ(first_limit_violation(s, params(std::numeric_limits<double>::quiet_NaN(), 0, 0, {1, 1, 1})), 0);
@@ -151,8 +186,8 @@ TEST(Kinematics, LimitsCompareInSi) {
 TEST(Kinematics, RigidUnlessScaled) {
   testing::TempDir dir;
   const Scene s = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
-  EXPECT_TRUE(is_rigid(part_transform(s, s.find_part("tip"), params(0.3, 1.2, 0.1, {1, 1, 1}))));
-  EXPECT_FALSE(is_rigid(part_transform(s, s.find_part("tip"), params(0.3, 1.2, 0.1, {1, 1.01, 1}))));
+  EXPECT_TRUE(is_rigid(part_transform(s, s.find_part("tip"), params(17, 69, 0.1, {1, 1, 1}))));
+  EXPECT_FALSE(is_rigid(part_transform(s, s.find_part("tip"), params(17, 69, 0.1, {1, 1.01, 1}))));
   Affine mirror = Affine::Identity();
   mirror.linear().diagonal() << 1, 1, -1;
   EXPECT_FALSE(is_rigid(mirror));

@@ -42,10 +42,12 @@ Scene random_chain_scene(std::mt19937_64& rng) {
         a.type = ActionType::kRotate;
         a.pivot = Vec3(u(rng), u(rng), u(rng));
         a.axis = random_unit(rng);
+        if (rng() % 2) a.unit_to_si = kPi / 180, a.whole_turn = 360;  // written in degrees
         break;
       case 2:
         a.type = rng() % 2 ? ActionType::kTranslateAxis : ActionType::kTranslateFree;
         a.axis = random_unit(rng);
+        if (rng() % 2) a.unit_to_si = 0.001;  // written in millimetres
         if (a.type == ActionType::kTranslateFree) a.parameter_count = 3;
         break;
       case 3:
@@ -65,13 +67,16 @@ Scene random_chain_scene(std::mt19937_64& rng) {
   return scene;
 }
 
+// Values as a plan writes them: angles up to 1.5 turns either way (in the
+// action's unit), shifts up to 1 m, factors 0.5 .. 2.
 std::vector<double> random_params(const Scene& scene, std::mt19937_64& rng) {
-  std::uniform_real_distribution<double> angle(-kPi, kPi), shift(-1.0, 1.0), factor(0.5, 2.0);
+  std::uniform_real_distribution<double> angle(-3 * kPi, 3 * kPi), shift(-1.0, 1.0), factor(0.5, 2.0);
   std::vector<double> q(scene.reference_parameters.size());
   for (const Action& a : scene.actions)
     for (int k = 0; k < a.parameter_count; ++k) {
       double& v = q[static_cast<std::size_t>(a.first_parameter + k)];
       v = a.type == ActionType::kRotate ? angle(rng) : a.type == ActionType::kScale ? factor(rng) : shift(rng);
+      if (a.type != ActionType::kScale) v /= a.unit_to_si;
     }
   return q;
 }
@@ -130,6 +135,47 @@ TEST(MotionBound, SingleRotationBoundIsTheLongestArc) {
   EXPECT_NEAR(bound.part_bound(0, qa, qb), 3.0 * r, 1e-8);
   EXPECT_EQ(bound.part_bound(0, qa, qa), 1e-12);  // only the rounding pad
   EXPECT_EQ(bound.part_bound(5, qa, qb), 0.0);    // past the parts: the static terrain
+}
+
+// Written in degrees, the turn is the written difference: 0 -> 720 is two
+// turns (though both ends pose alike), 170 -> -170 is 340 degrees.
+TEST(MotionBound, DegreesBoundTheWrittenTurnNotTheReducedOne) {
+  Scene scene;
+  Action a;
+  a.type = ActionType::kRotate;
+  a.pivot = Vec3(1, 0, 0);
+  a.axis = Vec3::UnitZ();
+  a.unit_to_si = kPi / 180;
+  a.whole_turn = 360;
+  scene.actions.push_back(a);
+  Action slide;
+  slide.type = ActionType::kTranslateAxis;
+  slide.axis = Vec3::UnitX();
+  slide.first_parameter = 1;
+  slide.unit_to_si = 0.001;  // millimetres
+  scene.actions.push_back(slide);
+  Part p;
+  p.mesh = testing::box_mesh({2, -0.5, 0}, {4, 0.5, 7});
+  p.chain = {0};
+  p.chain_id = 0;
+  scene.parts.push_back(p);
+  Part q = p;
+  q.chain = {1};
+  q.chain_id = 1;
+  scene.parts.push_back(q);
+  scene.chains = {p.chain, q.chain};
+  const MotionBound bound(scene);
+  const double r = std::sqrt(3.0 * 3.0 + 0.25);
+  // The bound is the exact arc length padded by 1e-9 relative for rounding.
+  auto expect_bound = [&](int part, std::vector<double> qa, std::vector<double> qb, double exact) {
+    const double m = bound.part_bound(part, qa, qb);
+    EXPECT_GE(m, exact) << qa[0] << " -> " << qb[0];
+    EXPECT_LE(m, exact * (1 + 2e-9) + 1e-12) << qa[0] << " -> " << qb[0];
+  };
+  expect_bound(0, {0, 0}, {720, 0}, 4 * kPi * r);
+  expect_bound(0, {170, 0}, {-170, 0}, 340 * kPi / 180 * r);
+  expect_bound(0, {1e4, 0}, {1e4 + 200, 0}, 200 * kPi / 180 * r);
+  expect_bound(1, {0, -250}, {0, 750}, 1.0);  // 1000 mm
 }
 
 }  // namespace

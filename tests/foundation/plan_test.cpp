@@ -13,8 +13,6 @@
 namespace plancheck {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 class PlanTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -55,12 +53,12 @@ TEST_F(PlanTest, ReadsKeysUnitsAndMissingColumns) {
   EXPECT_EQ(p.times, (std::vector<double>{0, 0.5}));
   EXPECT_EQ(p.lines, (std::vector<long>{7, 8}));
   ASSERT_EQ(p.states.size(), 2u);
-  // Order: J1, J2, Slide.x/y/z, Grow.x/y/z; missing ones keep reference values.
-  const double deg = kPi / 180;
-  const std::vector<double> s1 = {-20.25 * deg, 10.5 * deg, 0, 0, 0.006, 1, 2.5, 1};
-  ASSERT_EQ(p.states[1].size(), s1.size());
-  for (std::size_t i = 0; i < s1.size(); ++i) EXPECT_NEAR(p.states[1][i], s1[i], 1e-15) << i;
-  EXPECT_NEAR(p.states[0][0], -20 * deg, 1e-15);
+  // Order: J1, J2, Slide.x/y/z, Grow.x/y/z; missing ones keep reference
+  // values. Every value as written (degrees, millimetres): only the pose
+  // converts them.
+  const std::vector<double> s1 = {-20.25, 10.5, 0, 0, 6, 1, 2.5, 1};
+  EXPECT_EQ(p.states[1], s1);
+  EXPECT_EQ(p.states[0][0], -20.0);
 }
 
 // The in-memory entry point (used by the fuzz targets) reads what the file
@@ -84,13 +82,63 @@ TEST_F(PlanTest, DefaultsCrlfAndTrailingBlankLines) {
   EXPECT_EQ(p.name, "plan07");
   EXPECT_TRUE(p.times.empty());
   ASSERT_EQ(p.states.size(), 2u);
-  EXPECT_NEAR(p.states[1][0], 2 * kPi / 180, 1e-15);
+  EXPECT_EQ(p.states[1][0], 2.0);
   EXPECT_DOUBLE_EQ(p.tolerance, 0.01 * 0.001);  // default: 0.01 length units
   const Plan no_newline = load_plan(scene_, dir_.write("q.csv", "J1,J2\n1,2"));
   EXPECT_EQ(no_newline.states.size(), 1u);
   EXPECT_EQ(no_newline.tolerance, 0.0);  // no target: no tolerance
   EXPECT_EQ(no_newline.name, "q");
   EXPECT_EQ(load_plan(scene_, dir_.write("r.plan.txt", "J1\n0\n")).name, "r.plan.txt");
+}
+
+// The contract's motion between states: each parameter goes linearly from its
+// value as written to the next value as written. 200 is 200, 720 is two
+// turns, 170 -> -170 turns 340 degrees through 0, 1e300 stays 1e300.
+TEST_F(PlanTest, StatesHoldTheWrittenValuesAndMoveLinearlyBetweenThem) {
+  const Plan p = load_plan(scene_, dir_.write("turns.csv",
+                                              "J1,Slide.x,Grow.z\n"
+                                              "0,0,1\n"
+                                              "200,-5,2\n"
+                                              "720,1000,0.5\n"
+                                              "170,0,1\n"
+                                              "-170,0,1\n"
+                                              "-200,2.5,3\n"
+                                              "1e300,0,1\n"
+                                              "-1080.5,0,1\n"));
+  const std::vector<double> j1 = {0, 200, 720, 170, -170, -200, 1e300, -1080.5};
+  const std::vector<double> slide = {0, -5, 1000, 0, 0, 2.5, 0, 0};
+  const std::vector<double> grow = {1, 2, 0.5, 1, 1, 3, 1, 1};
+  ASSERT_EQ(p.states.size(), j1.size());
+  for (std::size_t s = 0; s < j1.size(); ++s) {
+    EXPECT_EQ(p.states[s][0], j1[s]) << s;  // J1 (deg)
+    EXPECT_EQ(p.states[s][1], 0.0) << s;    // J2: not a column, reference value
+    EXPECT_EQ(p.states[s][2], slide[s]) << s;  // Slide.x (mm)
+    EXPECT_EQ(p.states[s][7], grow[s]) << s;   // Grow.z (factor)
+  }
+  // Interpolation at t = 0, 1/2, 1: the written ends, bit for bit, and the
+  // midpoints of the written values (never of reduced ones).
+  std::vector<double> q;
+  for (std::size_t s = 0; s + 1 < p.states.size(); ++s) {
+    const std::vector<double>& a = p.states[s];
+    const std::vector<double>& b = p.states[s + 1];
+    state_between(a, b, 0.0, q);
+    EXPECT_EQ(q, a);
+    state_between(a, b, 1.0, q);
+    EXPECT_EQ(q, b);
+    state_between(a, b, 0.5, q);
+    ASSERT_EQ(q.size(), a.size());
+    for (std::size_t i = 0; i < q.size(); ++i) EXPECT_EQ(q[i], a[i] + 0.5 * (b[i] - a[i])) << s << " " << i;
+  }
+  state_between(p.states[0], p.states[1], 0.5, q);
+  EXPECT_EQ(q[0], 100.0);  // 0 -> 200 passes 100, not -80
+  EXPECT_EQ(q[2], -2.5);
+  EXPECT_EQ(q[7], 1.5);
+  state_between(p.states[1], p.states[2], 0.5, q);
+  EXPECT_EQ(q[0], 460.0);  // 200 -> 720: the long way, through a whole turn
+  state_between(p.states[3], p.states[4], 0.5, q);
+  EXPECT_EQ(q[0], 0.0);  // 170 -> -170 turns 340 degrees through 0, never through 180
+  state_between(p.states[4], p.states[5], 0.25, q);
+  EXPECT_EQ(q[0], -177.5);
 }
 
 TEST_F(PlanTest, HeaderErrors) {

@@ -51,7 +51,9 @@ const std::string kTwoJoints =
       {"name": "J1", "node": "arm1", "type": "rotate", "pivot": [0, 0, 0], "axis": [0, 0, 2], "limits": [-90, 90]},
       {"name": "J2", "node": "arm2", "type": "rotate", "pivot": [1, 0, 0], "axis": [0, 1, 0]}])";
 
-TEST_F(SceneLoaderTest, ActionsAreConvertedToSi) {
+// Geometry in SI; driving parameters and limits stay as written (plan units),
+// with the conversion each action's pose applies.
+TEST_F(SceneLoaderTest, ActionsKeepLimitsAsWrittenAndGeometryInSi) {
   const Scene s = load_scene(scene(kTwoJoints));
   ASSERT_EQ(s.actions.size(), 2u);
   const Action& j1 = s.actions[0];
@@ -60,8 +62,10 @@ TEST_F(SceneLoaderTest, ActionsAreConvertedToSi) {
   EXPECT_EQ(s.nodes[j1.node].name, "arm1");
   EXPECT_EQ(j1.axis, Vec3(0, 0, 1));  // normalised
   EXPECT_TRUE(j1.has_limits);
-  EXPECT_DOUBLE_EQ(j1.lower, -kPi / 2);
-  EXPECT_DOUBLE_EQ(j1.upper, kPi / 2);
+  EXPECT_EQ(j1.lower, -90.0);
+  EXPECT_EQ(j1.upper, 90.0);
+  EXPECT_DOUBLE_EQ(j1.unit_to_si, kPi / 180);
+  EXPECT_EQ(j1.whole_turn, 360.0);
   EXPECT_FALSE(s.actions[1].has_limits);
   EXPECT_EQ(s.parameter_names, (std::vector<std::string>{"J1", "J2"}));
   EXPECT_EQ(s.reference_parameters, (std::vector<double>{0, 0}));
@@ -144,7 +148,9 @@ TEST_F(SceneLoaderTest, OptionalBlocksInMillimetres) {
                   "fan": {"count": 8, "half_angle": 45}}])"));
   EXPECT_DOUBLE_EQ(s.length_scale, 0.001);
   EXPECT_DOUBLE_EQ(s.safety_margin, 0.05);
-  EXPECT_DOUBLE_EQ(s.actions[1].upper, 0.25);
+  EXPECT_EQ(s.actions[1].upper, 250.0);  // as written, in mm
+  EXPECT_DOUBLE_EQ(s.actions[1].unit_to_si, 0.001);
+  EXPECT_EQ(s.actions[1].whole_turn, 0.0);
   EXPECT_EQ(s.actions[1].axis, Vec3(0, 0, 1));
   // Vertices too: arm1's box ends at x = 1 m.
   double max_x = 0;

@@ -36,12 +36,12 @@ struct Segment {
 // (times u) at which both ends are at least margin + 5 mm clear.
 std::optional<Segment> graze_through(const Checker& checker, double margin, const std::vector<double>& mid,
                                      const std::vector<double>& u) {
-  const double deg = 3.14159265358979323846 / 180.0;
+  // States are in plan units: the default scene's joints in degrees.
   for (double a = 1.0; a <= 64.0; a *= 2.0) {
     Segment s{mid, mid};
     for (std::size_t j = 0; j < mid.size(); ++j) {
-      s.qa[j] -= a * deg * u[j];
-      s.qb[j] += a * deg * u[j];
+      s.qa[j] -= a * u[j];
+      s.qb[j] += a * u[j];
     }
     if (distance_at(checker, s.qa) >= margin + 0.005 && distance_at(checker, s.qb) >= margin + 0.005) return s;
   }

@@ -9,6 +9,7 @@
 #include "src/scene_loader.h"
 #include "src/verify.h"
 #include "support/fixtures.h"
+#include "tests/verify/dense_sampling.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -20,6 +21,7 @@
 namespace plancheck {
 namespace {
 
+using testing::Dense;
 using testing::TempDir;
 using testing::write_text;
 
@@ -76,36 +78,6 @@ std::unique_ptr<Run> run(const TempDir& dir, const std::vector<std::vector<std::
   return r;
 }
 
-// Dense sampling of one segment: n exact sub-steps. Reports whether any
-// sample collides, the least sampled distance, and a rigorous lower bound on
-// the true minimum from the samples and the motion bound between them.
-struct Dense {
-  bool collision = false;
-  double min_sampled = std::numeric_limits<double>::infinity();
-  double lower = std::numeric_limits<double>::infinity();
-};
-
-Dense dense(const Checker& checker, const SegmentChecker& seg, const std::vector<double>& qa,
-            const std::vector<double>& qb, int n) {
-  Dense out;
-  std::vector<double> prev_q;
-  double prev_d = 0.0;
-  for (int j = 0; j <= n; ++j) {
-    const double t = static_cast<double>(j) / n;
-    std::vector<double> q(qa.size());
-    for (std::size_t i = 0; i < q.size(); ++i) q[i] = j == n ? qb[i] : qa[i] + t * (qb[i] - qa[i]);
-    StateResult r;
-    checker.check_state(q, r);
-    const double d = r.collision ? 0.0 : r.min_distance;
-    out.collision |= r.collision;
-    out.min_sampled = std::min(out.min_sampled, d);
-    if (j > 0) out.lower = std::min(out.lower, std::min({prev_d, d, 0.5 * (prev_d + d - seg.pair_bound(prev_q, q))}));
-    prev_q = q;
-    prev_d = d;
-  }
-  return out;
-}
-
 // Every segment of every plan against dense sampling: nothing the samples
 // find is missed; nothing is flagged that the samples prove to be farther
 // than the tolerance from the margin; the certified bound is a lower bound.
@@ -117,7 +89,7 @@ void expect_agrees_with_dense(const Run& r, int n, int* flagged = nullptr) {
       SCOPED_TRACE("plan " + std::to_string(p) + " segment " + std::to_string(s));
       const SegmentResult& g = r.results[p].segments[s];
       ASSERT_TRUE(g.checked);
-      const Dense d = dense(*r.checker, seg, r.plans[p].states[s], r.plans[p].states[s + 1], n);
+      const Dense d = testing::dense(*r.checker, seg, r.plans[p].states[s], r.plans[p].states[s + 1], n);
       if (d.collision) {
         EXPECT_TRUE(g.collision);
       }
@@ -175,6 +147,46 @@ TEST(Continuous, FastLargeAngleSwingsGoTheWayTheParametersGo) {
   EXPECT_TRUE(r->results[2].segments[0].collision);
   EXPECT_TRUE(r->results[3].segments[0].collision);
   expect_agrees_with_dense(*r, 2000);
+}
+
+// A post at azimuth `deg` (degrees), radius 1.3 m: the bar (reach 2 m)
+// sweeps through it, and both ends stay clear of it when 20+ degrees away.
+std::pair<Vec3, Vec3> post_at(double deg) {
+  const double a = deg * std::acos(-1.0) / 180, x = 1.3 * std::cos(a), y = 1.3 * std::sin(a);
+  return {{x - 0.1, y - 0.1, 0}, {x + 0.1, y + 0.1, 2}};
+}
+
+// The motion between two states runs from the value as written to the value
+// as written: steps of more than half a turn, several turns, and steps whose
+// written values straddle +-180 go the way they are written (before, values
+// were reduced into (-180, 180] when read and the motion took the reduced
+// way: 0 -> 200 and 0 -> 720 passed as safe). The same end poses written the
+// other way round miss the post and stay safe.
+TEST(Continuous, StepsMoveAsWrittenNotTheShortWay) {
+  struct Case {
+    double post;  // azimuth, degrees
+    double from, to;
+    bool collision;
+  };
+  for (const Case c : {Case{100, 0, 200, true}, Case{100, 0, -160, false},    // 200 poses like -160
+                       Case{100, 0, 720, true}, Case{100, 720, 0, true},      // two turns, not none
+                       Case{100, 360, 360, false}, Case{100, -30, 330, true}, // one turn through 100
+                       Case{180, 160, 200, true}, Case{180, 160, -160, false},  // across 180 vs through 0
+                       Case{0, 170, -170, true}, Case{0, 170, 190, false},
+                       Case{-100, 0, -200, true}, Case{-100, 0, 160, false},
+                       Case{-100, 1e4 + 60, 1e4 + 120, false}, Case{-100, -1e4, -1e4 + 360, true}}) {
+    SCOPED_TRACE("post at " + std::to_string(c.post) + ", " + std::to_string(c.from) + " -> " + std::to_string(c.to));
+    TempDir dir("continuous");
+    write_scene(dir, {post_at(c.post)});
+    const auto r = run(dir, {{{c.from, 0, 1}, {c.to, 0, 1}}});
+    const PlanResult& p = r->results[0];
+    ASSERT_GT(p.states[0].min_distance, 0.2);  // both states well clear
+    ASSERT_GT(p.states[1].min_distance, 0.2);
+    EXPECT_EQ(r->plans[0].states[1][0], c.to);  // as written
+    EXPECT_EQ(p.segments[0].collision, c.collision);
+    EXPECT_EQ(p.verdict, c.collision ? Verdict::kCollision : Verdict::kSafe);
+    expect_agrees_with_dense(*r, 4000);
+  }
 }
 
 // Post face at y = face, the bar's far corners sweep radius rho: on a slew
@@ -246,6 +258,21 @@ TEST(Continuous, ResultsDoNotDependOnTheThreadCount) {
     EXPECT_EQ(x.steps, y.steps);
     EXPECT_EQ(x.witness_t, y.witness_t);
   }
+}
+
+// The command line, end to end, on the case: one step 0 -> 200.
+TEST(Continuous, CommandLineTurnsEachStepAsWritten) {
+  TempDir dir("continuous");
+  write_scene(dir, {post_at(100)});
+  write_text(dir / "long.csv", plan_text({{0, 0, 1}, {200, 0, 1}}));
+  write_text(dir / "short.csv", plan_text({{0, 0, 1}, {-160, 0, 1}}));  // the same end pose
+  const std::string base = kPlancheck + " verify " + (dir / "scene.json").string() + " ";
+  const std::string out = " --continuous --out " + (dir / "out").string() + " >/dev/null 2>&1";
+  EXPECT_EQ(testing::run_command(base + (dir / "long.csv").string() + out), 1);
+  const auto report = nlohmann::json::parse(testing::read_text(dir / "out" / "report.json"));
+  EXPECT_EQ(report["plans"][0]["first_violation"]["kind"], "collision");
+  EXPECT_EQ(report["plans"][0]["first_violation"]["between"], true);
+  EXPECT_EQ(testing::run_command(base + (dir / "short.csv").string() + out), 0);
 }
 
 TEST(Continuous, CommandLineReportsBetweenAndSegmentColumns) {

@@ -61,7 +61,7 @@ TEST(Prune, DistancesAndContactIndicesUnchanged) {
   // Safe: the closed form of verify_test (bar's underside is float(0.9)).
   for (double deg : {0.0, 10.0, 20.0}) {
     StateResult r;
-    checker.check_state({deg * kPi / 180.0}, r);
+    checker.check_state({deg}, r);  // as written, in the scene's degrees
     const double a = deg * kPi / 180.0;
     const double h = 1.0 - static_cast<double>(0.9f);
     EXPECT_FALSE(r.collision);
@@ -70,7 +70,7 @@ TEST(Prune, DistancesAndContactIndicesUnchanged) {
   // Colliding: the bar's tip goes through the slab's top; every listed slab
   // triangle is a top-face triangle of the slab (z = 0), not of the block.
   StateResult r;
-  checker.check_state({35.0 * kPi / 180.0}, r);
+  checker.check_state({35.0}, r);
   ASSERT_TRUE(r.collision);
   ASSERT_FALSE(r.contacts.empty());
   for (const PairContact& c : r.contacts) {

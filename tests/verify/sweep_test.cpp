@@ -99,6 +99,25 @@ TEST(Sweep, StepsSpanTheLimitsWithExactEnds) {
   EXPECT_EQ(rows[5][1], "collision");  // 30 deg: the bar's end is in the slab
 }
 
+// Grid values are plan values: kept and echoed as written, checked against
+// the limits as written (330 poses like -30 but is past the 30-degree limit).
+TEST(Sweep, GridValuesAreEchoedAndLimitedAsWritten) {
+  TempDir dir("sweep-written");
+  testing::write_bar_scene(dir);
+  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-450:330:390", dir / "out"), 0);
+  const auto rows = read_csv(dir / "out/sweep.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  EXPECT_EQ(rows[1][0], "-450");
+  EXPECT_EQ(rows[2][0], "-60");
+  EXPECT_EQ(rows[3][0], "330");
+  EXPECT_EQ(rows[1][1], "limits");  // poses like -90, on the lower limit
+  EXPECT_EQ(rows[2][1], "safe");
+  EXPECT_EQ(rows[3][1], "limits");  // poses like -30, safe there
+  const auto summary = nlohmann::json::parse(read_text(dir / "out/sweep.json"));
+  EXPECT_EQ(summary["axes"][0]["values"], nlohmann::json::array({-450.0, -60.0, 330.0}));
+  EXPECT_EQ(summary["counts"]["limits"], 2);
+}
+
 TEST(Sweep, OneAndTwoThreadsWriteTheSameRows) {
   TempDir dir("sweep-threads");
   testing::write_bar_scene(dir);
