@@ -20,8 +20,11 @@ FUZZ_MODEL_SECONDS ?= 180
 FUZZ_URDF_SECONDS ?= 45
 FUZZ_TARGETS ?= scene plan model dem verify urdf
 # -O2 as in Release, line tables only (-g1): readable reports, lighter builds.
+# They embed the Release build's viewer bundle (no second npm ci) and skip the
+# browser tests (the Release run has them); the page writer is still tested.
 SAN_CMAKE := -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
-             -DPLANCHECK_BUILD_BENCH=OFF $(CMAKE_FLAGS)
+             -DPLANCHECK_BUILD_BENCH=OFF -DPLANCHECK_VIEWER=OFF -DPLANCHECK_BROWSER_TESTS=OFF \
+             -DPLANCHECK_VIEWER_BUNDLE=$(CURDIR)/$(BUILD)/viewer/plancheck-viewer.js $(CMAKE_FLAGS)
 export ASAN_OPTIONS ?= detect_leaks=1:abort_on_error=0:strict_string_checks=1
 export UBSAN_OPTIONS ?= print_stacktrace=1:halt_on_error=1
 export LSAN_OPTIONS ?= suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0
@@ -76,7 +79,8 @@ test-asan: dataset
 # std::thread there (src/parallel.cpp says why); tests/tsan.supp lists what
 # is suppressed. Only the executables holding such tests are built.
 TSAN_TESTS ?= Thread|Concurren|^Parallel\.
-TSAN_TARGETS ?= plancheck plancheck_foundation_tests plancheck_geometry_tests plancheck_terrain_tests plancheck_verify_tests
+TSAN_TARGETS ?= plancheck plancheck_foundation_tests plancheck_geometry_tests plancheck_terrain_tests plancheck_verify_tests \
+                plancheck_output_tests
 test-tsan: dataset
 	cmake -S . -B $(TSAN_BUILD) $(SAN_CMAKE) -DPLANCHECK_TSAN=ON
 	cmake --build $(TSAN_BUILD) -j $(JOBS) --target $(TSAN_TARGETS)

@@ -7,13 +7,19 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libtbb-dev libembree-dev libassimp-dev
-  nlohmann-json3-dev libcli11-dev libgmp-dev libpng-dev
+  nlohmann-json3-dev libcli11-dev libgmp-dev libcairo2-dev fonts-dejavu-core
   liburdfdom-dev libtinyxml2-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libcgal-dev
   assimp-testmodels dart-doc
   clang libclang-rt-14-dev
+  chromium
 )
+# report.html's viewer is bundled with node/npm (src/viewer). Debian's nodejs
+# and npm only when the commands are missing: a NodeSource node brings its
+# own npm and conflicts with Debian's.
+command -v node >/dev/null 2>&1 || packages+=(nodejs)
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do

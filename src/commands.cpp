@@ -4,7 +4,9 @@
 #include "src/continuous.h"
 #include "src/error.h"
 
+#include "src/output/report_html.h"
 #include "src/parallel.h"
+#include "src/progress.h"
 #include "src/plan.h"
 #include "src/report.h"
 #include "src/scene_loader.h"
@@ -59,7 +61,15 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
   err << "plancheck: checking " << states << " states of " << plans.size() << " plans on " << info.threads
       << " threads\n";
   t0 = std::chrono::steady_clock::now();
-  auto results = verify_plans(checker, scene, plans, VerifyOptions{info.threads, args.dig_carry});
+  std::vector<PlanResult> results;
+  {
+    Progress progress("verify", states, "states", ProgressOptions{.quiet = args.quiet}, &err);
+    VerifyOptions verify_options;
+    verify_options.threads = info.threads;
+    verify_options.dig_carry = args.dig_carry;
+    verify_options.progress = &progress;
+    results = verify_plans(checker, scene, plans, verify_options);
+  }
   if (args.continuous) {
     const auto tc = std::chrono::steady_clock::now();
     options.threads = info.threads;
@@ -73,6 +83,13 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
   info.check_seconds = seconds_since(t0);
 
   write_reports(checker, scene, results, info, args.out);
+  if (args.html) {
+    const auto th = std::chrono::steady_clock::now();
+    write_report_html(checker, scene, results, args.out, ReportPageOptions{args.dig_carry});
+    err << "plancheck: wrote " << (args.out / "report.html").string() << " (" << seconds_since(th) << " s)\n";
+  } else {
+    std::filesystem::remove(args.out / "report.html", ec);  // not this run's
+  }
   if (args.json) {
     // Machine-readable stdout: the report itself, nothing else.
     std::ifstream f(args.out / "report.json");

@@ -21,6 +21,8 @@ struct VerifyArgs {
   bool dig_carry = false;    // the terrain dug by one plan is the next plan's start
   bool continuous = false;   // also certify the motion between consecutive states (src/continuous.h)
   double continuous_tolerance = 0.0;  // clearance witness tolerance, scene length_unit; 0: the default
+  bool html = false;         // also DIR/report.html (src/output/report_html.h)
+  bool quiet = false;        // no progress on stderr
 };
 
 struct DigArgs {
@@ -28,6 +30,7 @@ struct DigArgs {
   SceneOptions scene_options;  // --srdf, --package
   std::filesystem::path plan;
   std::filesystem::path out = "plancheck-dig";
+  bool quiet = false;        // no progress on stderr
 };
 
 // Exit status per the contract: 0 all plans safe, 1 any violation. Input
@@ -36,6 +39,6 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err);
 
 // Digs one plan and writes DIR/before.asc, DIR/after.asc and DIR/dig.png
 // (src/dig_command.cpp).
-int run_dig(const DigArgs& args, std::ostream& out);
+int run_dig(const DigArgs& args, std::ostream& out, std::ostream& err);
 
 }  // namespace plancheck

@@ -5,7 +5,8 @@
 #include "src/dig.h"
 #include "src/error.h"
 #include "src/plan.h"
-#include "src/png_map.h"
+#include "src/output/dig_png.h"
+#include "src/progress.h"
 #include "src/scene_loader.h"
 
 #include <cstdio>
@@ -13,7 +14,7 @@
 
 namespace plancheck {
 
-int run_dig(const DigArgs& args, std::ostream& out) {
+int run_dig(const DigArgs& args, std::ostream& out, std::ostream& err) {
   const Scene scene = load_scene(args.scene, args.scene_options);
   if (!scene.terrain) fail(args.scene, "terrain: missing (plancheck dig needs a terrain and a scoop block)");
   if (!scene.scoop) fail(args.scene, "scoop: missing (plancheck dig needs a terrain and a scoop block)");
@@ -21,13 +22,25 @@ int run_dig(const DigArgs& args, std::ostream& out) {
   const Digger digger(scene);
   Dem grid = digger.undisturbed();
   std::vector<DigStep> steps;
-  const DigSummary sum = digger.dig_plan(plan.states, grid, steps);
+  DigSummary sum;
+  {
+    Progress progress("dig", plan.states.size(), "states", ProgressOptions{.quiet = args.quiet}, &err);
+    sum = digger.dig_plan(plan.states, grid, steps, [&](std::size_t, const Dem&, const SampleRect&) { progress.add(); });
+  }
 
   std::filesystem::create_directories(args.out);
   write_dem(args.out / "before.asc", digger.undisturbed(), scene.length_scale);
   write_dem(args.out / "after.asc", grid, scene.length_scale);
-  const int pixels = std::max(1, 600 / std::max(grid.ncols, grid.nrows));
-  const MapScale map = write_dig_png(args.out / "dig.png", digger.undisturbed(), grid, pixels);
+  DigMapRequest map_request;
+  map_request.before = &digger.undisturbed();
+  map_request.after = &grid;
+  map_request.origin = digger.origin();
+  map_request.target = plan.target;
+  if (sum.dug) map_request.deepest = sum.deepest_point;
+  map_request.plan_name = plan.name;
+  map_request.length_unit = scene.length_unit;
+  map_request.length_scale = scene.length_scale;
+  const DigMapResult map = write_dig_png(args.out / "dig.png", map_request);
 
   const double u = scene.length_scale, u3 = u * u * u;
   char line[400];

@@ -60,6 +60,8 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("--out", out_dir, "folder for report.json and one CSV per plan")->capture_default_str();
   verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
   verify_cmd->add_flag("--json", verify.json, "print report.json on stdout instead of the plan lines");
+  verify_cmd->add_flag("--html", verify.html, "also write DIR/report.html: the plans replayed in 3D, one self-contained file");
+  verify_cmd->add_flag("--quiet", verify.quiet, "no progress or status lines on stderr");
   verify_cmd->add_flag("--dig-carry", verify.dig_carry, "the terrain dug by one plan is where the next one starts");
   CLI::Option* continuous = verify_cmd->add_flag("--continuous", verify.continuous,
                        "also certify the motion between states (joints linear in driving parameters)");
@@ -76,6 +78,7 @@ int main(int argc, char** argv) {
   dig_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
   add_robot_options(dig_cmd, srdf, packages);
   dig_cmd->add_option("PLAN", dig_plan, "plan file (CSV)")->required();
+  dig_cmd->add_flag("--quiet", dig.quiet, "no progress on stderr");
   dig_cmd->add_option("--out", dig_out, "folder for before.asc, after.asc and dig.png")->capture_default_str();
 
   plancheck::SweepArgs sweep;
@@ -92,6 +95,8 @@ int main(int argc, char** argv) {
       "--grid", sweep_grid, "NAME=FROM:TO:STEP,... in plan units; parameters not named keep their reference value");
   steps_opt->excludes(grid_opt);
   sweep_cmd->add_option("--out", sweep_out, "folder for sweep.csv and sweep.json")->capture_default_str();
+  sweep_cmd->add_flag("--html", sweep.html, "also write DIR/sweep.html: verdict heat maps, the arm, safe targets; one self-contained file");
+  sweep_cmd->add_flag("--quiet", sweep.quiet, "no progress or status lines on stderr");
   sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
 
   CLI::App* bench_cmd = app.add_subcommand(
@@ -107,6 +112,8 @@ int main(int argc, char** argv) {
     return kExitBadInput;
   }
 
+  // --quiet: status and progress go nowhere (errors still reach std::cerr).
+  std::ostream quiet_err(nullptr);
   try {
     if (scene_cmd->parsed()) {
       const plancheck::Scene scene = plancheck::load_scene(scene_file, scene_options(srdf, packages));
@@ -116,20 +123,20 @@ int main(int argc, char** argv) {
       verify.scene_options = scene_options(srdf, packages);
       verify.plans.assign(plan_files.begin(), plan_files.end());
       verify.out = out_dir;
-      return plancheck::run_verify(verify, std::cout, std::cerr);
+      return plancheck::run_verify(verify, std::cout, verify.quiet ? quiet_err : std::cerr);
     } else if (dig_cmd->parsed()) {
       dig.scene = scene_file;
       dig.scene_options = scene_options(srdf, packages);
       dig.plan = dig_plan;
       dig.out = dig_out;
-      return plancheck::run_dig(dig, std::cout);
+      return plancheck::run_dig(dig, std::cout, dig.quiet ? quiet_err : std::cerr);
     } else if (sweep_cmd->parsed()) {
       sweep.scene = scene_file;
       sweep.scene_options = scene_options(srdf, packages);
       if (*steps_opt) sweep.steps = sweep_steps;
       if (*grid_opt) sweep.grid = sweep_grid;
       sweep.out = sweep_out;
-      return plancheck::run_sweep(sweep, std::cout, std::cerr);
+      return plancheck::run_sweep(sweep, std::cout, sweep.quiet ? quiet_err : std::cerr);
     } else if (bench_cmd->parsed()) {
       return plancheck::run_bench(bench_cmd->remaining(), std::cerr);
     }

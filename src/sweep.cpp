@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: MIT
+#include "src/output/sweep_html.h"
+#include "src/progress.h"
 #include "src/sweep.h"
 
 #include "src/error.h"
@@ -218,9 +220,12 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
   request.max_triangle_pairs = 0;
   request.all_contacts = false;
   const auto t_check = std::chrono::steady_clock::now();
+  Progress progress("sweep", total, "configurations", ProgressOptions{.quiet = args.quiet}, &err);
   constexpr std::size_t kBlock = std::size_t{1} << 16;  // rows held before writing
   constexpr std::size_t kRun = 32;                      // states seeded in order
   std::vector<Row> rows;
+  std::vector<std::uint8_t> page_verdicts;  // --html: every configuration's verdict, the safe ones' targets
+  std::vector<Vec3> page_targets;
   std::vector<double> params;
   std::vector<std::size_t> digits(axes.size());
   for (std::size_t block = 0; block < total; block += kBlock) {
@@ -247,6 +252,7 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
           }
           row.target = checker.target_point(p);
         }
+        progress.add(std::min(n, (r + 1) * kRun) - r * kRun);
       }
     });
     for (std::size_t i = 0; i < n; ++i) {
@@ -261,7 +267,9 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
         closest = row;
         closest_index = block + i;
       }
+      if (args.html) page_verdicts.push_back(sweep_verdict_code(row.verdict));
       if (row.verdict == Verdict::kSafe) {
+        if (args.html) page_targets.push_back(row.target);
         for (std::size_t k = 0; k < axes.size(); ++k) ++safe_by_value[k][digits[k]];
         reach_lo = reach_lo.cwiseMin(row.target);
         reach_hi = reach_hi.cwiseMax(row.target);
@@ -275,6 +283,7 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
           << num(row.target.y() / unit) << "," << num(row.target.z() / unit) << "\n";
     }
   }
+  progress.finish();
   const double check_seconds = seconds_since(t_check);
   if (!csv.flush()) throw InputError(csv_tmp.string() + ": write failed");
   csv.close();
@@ -342,6 +351,9 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
     f.close();
     std::filesystem::rename(tmp, args.out / "sweep.json");
   }
+
+  std::filesystem::remove(args.out / "sweep.html", ec);
+  if (args.html) write_sweep_html(checker, scene, axes, page_verdicts, page_targets, args.out);
 
   // stdout: the summary in a few lines.
   auto pct = [&](std::size_t c) { return num(std::round(1000.0 * static_cast<double>(c) / static_cast<double>(total)) / 10.0); };

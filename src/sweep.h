@@ -39,6 +39,8 @@ struct SweepArgs {
   std::filesystem::path scene;
   SceneOptions scene_options;        // --srdf, --package
   std::optional<long> steps;         // --steps N
+  bool quiet = false;                // no progress on stderr
+  bool html = false;                 // also DIR/sweep.html (src/output/sweep_html.h)
   std::optional<std::string> grid;   // --grid SPEC
   std::filesystem::path out = "plancheck-sweep";
   int threads = 0;                   // 0: all hardware threads

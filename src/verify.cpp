@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "src/verify.h"
 
+#include "src/progress.h"
+
 #include "src/kinematics.h"
 #include "src/parallel.h"
 #include "src/terrain.h"
@@ -597,6 +599,7 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
         checker.check_state(plans[p].states[s], results[p].states[s], CheckRequest{}, &seed);
       state_seconds[p][s] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
+    if (options.progress) options.progress->add(std::min(items.size(), run_end * kRun) - run_begin * kRun);
   });
 
   // Digging (with the terrain pairs of digging scenes) and probes, before

@@ -154,10 +154,13 @@ struct StateSeed {
   std::vector<double> at;
 };
 
+class Progress;
+
 struct VerifyOptions {
   int threads = 0;         // 0: all hardware threads
   bool dig_carry = false;  // the terrain dug by one plan is the next plan's start
   bool regolith = true;    // run the digging and probe passes when the scene has them
+  Progress* progress = nullptr;  // counts the states checked (optional; last, so {threads, carry} still reads)
 };
 
 // Collision structures of a scene, built once; immutable and shared by threads.

@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+#include "src/output/sweep_html.h"
+
+#include "src/error.h"
+#include "src/kinematics.h"
+#include "src/output/scene_page.h"
+
+#include <fstream>
+
+namespace plancheck {
+
+std::uint8_t sweep_verdict_code(Verdict v) {
+  switch (v) {
+    case Verdict::kSafe: return 0;
+    case Verdict::kClearance: return 1;
+    case Verdict::kCollision: return 2;
+    default: return 3;
+  }
+}
+
+void write_sweep_html(const Checker& checker, const Scene& scene, const std::vector<SweepAxis>& axes,
+                      const std::vector<std::uint8_t>& verdicts, const std::vector<Vec3>& safe_targets,
+                      const std::filesystem::path& dir) {
+  PageJson sweep;
+  {
+    std::ifstream f(dir / "sweep.json");
+    if (!f) fail(dir / "sweep.json", "cannot read");
+    sweep = PageJson::parse(f);
+  }
+  const PageFrame frame = page_frame(scene);
+  PageJson page = {{"kind", "sweep"}, {"format", "plancheck-sweep-page/1"}, {"sweep", sweep}};
+  page.update(scene_page_json(checker, scene, frame));
+
+  PageJson jaxes = PageJson::array();
+  for (const SweepAxis& a : axes)
+    jaxes.push_back({{"name", scene.parameter_names[static_cast<std::size_t>(a.parameter)]},
+                     {"parameter", a.parameter},
+                     {"count", a.values.size()}});
+  page["axes"] = jaxes;
+
+  // Per action: its transform at the reference parameters, or one per value
+  // of the one axis that drives it. An action driven by two swept
+  // parameters (a free translation swept in x and y) is not posed: "arm": false.
+  bool arm = true;
+  PageJson actions = PageJson::array();
+  for (const Action& act : scene.actions) {
+    int axis = -1, driving = 0;
+    for (std::size_t k = 0; k < axes.size(); ++k)
+      if (axes[k].parameter >= act.first_parameter && axes[k].parameter < act.first_parameter + act.parameter_count) {
+        axis = static_cast<int>(k);
+        ++driving;
+      }
+    std::vector<double> params = scene.reference_parameters;
+    std::vector<float> t;
+    if (driving > 1) arm = false;
+    if (axis < 0 || driving > 1) {
+      PageFrame{}.affine(action_transform(act, params.data() + act.first_parameter), t);
+      actions.push_back({{"axis", -1}, {"transforms", base64_array(t)}});
+      continue;
+    }
+    const SweepAxis& a = axes[static_cast<std::size_t>(axis)];
+    for (double v : a.values) {
+      params[static_cast<std::size_t>(a.parameter)] = v;
+      PageFrame{}.affine(action_transform(act, params.data() + act.first_parameter), t);
+    }
+    actions.push_back({{"axis", axis}, {"transforms", base64_array(t)}});
+  }
+  // Chains compose action transforms in metres about the scene's origin;
+  // the page maps the product to page coordinates (PageFrame::affine).
+  page["actions"] = actions;
+  page["arm"] = arm;
+  page["verdicts"] = base64_array(verdicts);
+  // At most kMaxTargets points drawn (every stride-th safe configuration).
+  constexpr std::size_t kMaxTargets = 500'000;
+  const std::size_t stride = (safe_targets.size() + kMaxTargets - 1) / kMaxTargets;
+  std::vector<float> targets;
+  for (std::size_t i = 0; i < safe_targets.size(); i += std::max<std::size_t>(stride, 1)) {
+    const Vec3 q = frame.point(safe_targets[i]);
+    for (int i = 0; i < 3; ++i) targets.push_back(static_cast<float>(q[i]));
+  }
+  page["safe_targets"] = base64_array(targets);
+  page["safe_targets_stride"] = std::max<std::size_t>(stride, 1);
+  page["centre_m"] = point_json(frame.centre);
+  page["unit_m"] = frame.unit;
+
+  write_html_page(dir / "sweep.html", "plancheck sweep: " + sweep.value("scene", std::string()), page.dump());
+}
+
+}  // namespace plancheck

@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+// DIR/sweep.html (sweep --html): the configuration grid's verdicts as a heat
+// map over two chosen parameters, the arm at any configuration, the targets
+// of the safe configurations over the terrain. Geometry once; the arm is
+// posed in the page from one transform per action and swept value (each
+// action depends on its own parameters only), composed along each chain.
+#pragma once
+
+#include "src/sweep.h"
+#include "src/verify.h"
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace plancheck {
+
+// sweep.html's verdict codes (those of verdict.npy): 0 safe, 1 clearance, 2 collision, 3 limits.
+std::uint8_t sweep_verdict_code(Verdict v);
+
+// Writes dir/sweep.html; dir/sweep.json must exist. verdicts: one code per
+// configuration in grid order (the last axis fastest); safe_targets: the
+// target point (m) of each safe configuration.
+void write_sweep_html(const Checker& checker, const Scene& scene, const std::vector<SweepAxis>& axes,
+                      const std::vector<std::uint8_t>& verdicts, const std::vector<Vec3>& safe_targets,
+                      const std::filesystem::path& dir);
+
+}  // namespace plancheck

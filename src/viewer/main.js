@@ -1,0 +1,20 @@
+// SPDX-License-Identifier: MIT
+// The viewer of report.html and sweep.html: reads the page's data and builds
+// the page. window.plancheck exposes the page's controls to the browser tests.
+import uplotCss from 'uplot/dist/uPlot.min.css';
+import { pageData } from './common.js';
+import { reportPage } from './report.js';
+import { sweepPage } from './sweep.js';
+import { installStyle } from './style.js';
+
+function start() {
+  installStyle(uplotCss);
+  const root = document.createElement('div');
+  root.id = 'app';
+  document.body.append(root);
+  const data = pageData();
+  window.plancheck = data.kind === 'sweep' ? sweepPage(data, root) : reportPage(data, root);
+  document.body.dataset.ready = '1';
+}
+
+start();
