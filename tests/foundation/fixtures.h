@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <cstring>
@@ -92,10 +93,18 @@ inline const std::vector<Tri>& box_triangles() {
   return kTris;
 }
 
-// Writes a .gltf with an embedded buffer. Every coordinate (translations,
-// box corners) is multiplied by `unit` so one tree can be written in m, cm or mm.
-inline std::filesystem::path write_box_gltf(const std::filesystem::path& file, const std::vector<BoxNode>& nodes,
-                                            double unit = 1.0) {
+// One node of a glTF written by write_mesh_gltf: its parent (index into the
+// node list, -1 for a top node), its translation and an optional mesh in the
+// node's local frame (no triangles: no mesh).
+struct MeshNode {
+  std::string name;
+  int parent = -1;
+  Vec3 translation = Vec3::Zero();
+  Mesh mesh;
+};
+
+// Writes a .gltf with an embedded buffer (float positions, uint32 indices).
+inline std::filesystem::path write_mesh_gltf(const std::filesystem::path& file, const std::vector<MeshNode>& nodes) {
   using nlohmann::json;
   std::vector<unsigned char> buffer;
   auto put = [&](const void* p, std::size_t n) {
@@ -109,35 +118,38 @@ inline std::filesystem::path write_box_gltf(const std::filesystem::path& file, c
   j["accessors"] = json::array();
   j["bufferViews"] = json::array();
   for (std::size_t i = 0; i < nodes.size(); ++i) {
-    const BoxNode& n = nodes[i];
+    const MeshNode& n = nodes[i];
     json jn = {{"name", n.name}};
-    const Vec3 t = n.translation * unit;
-    if (!t.isZero()) jn["translation"] = {t.x(), t.y(), t.z()};
+    if (!n.translation.isZero()) jn["translation"] = {n.translation.x(), n.translation.y(), n.translation.z()};
     std::vector<int> children;
     for (std::size_t c = 0; c < nodes.size(); ++c)
       if (nodes[c].parent == static_cast<int>(i)) children.push_back(static_cast<int>(c));
     if (!children.empty()) jn["children"] = children;
-    if (n.box) {
-      const std::size_t pos_offset = buffer.size();
-      std::vector<Vec3> corners = box_corners(n.lo * unit, n.hi * unit);
-      Vec3 lo = n.lo * unit, hi = n.hi * unit;
-      for (const Vec3& c : corners) {
-        float f[3] = {static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z())};
+    const Mesh& m = n.mesh;
+    if (!m.triangles.empty()) {
+      const std::size_t pos = buffer.size();
+      Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+      for (const Vec3& v : m.vertices) {
+        const float f[3] = {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
         put(f, sizeof f);
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = std::min(lo[k], static_cast<double>(f[k]));
+          hi[k] = std::max(hi[k], static_cast<double>(f[k]));
+        }
       }
-      const std::size_t index_offset = buffer.size();
-      for (const Tri& t3 : box_triangles()) put(t3.data(), sizeof(std::uint32_t) * 3);
+      const std::size_t idx = buffer.size();
+      for (const Tri& t : m.triangles) put(t.data(), sizeof(std::uint32_t) * 3);
       const int view = static_cast<int>(j["bufferViews"].size());
-      j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", pos_offset}, {"byteLength", 8 * 12}});
-      j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", index_offset}, {"byteLength", 12 * 12}});
+      j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", pos}, {"byteLength", idx - pos}});
+      j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", idx}, {"byteLength", buffer.size() - idx}});
       const int acc = static_cast<int>(j["accessors"].size());
-      j["accessors"].push_back({{"bufferView", view}, {"componentType", 5126}, {"count", 8}, {"type", "VEC3"},
-                                {"min", {lo.x(), lo.y(), lo.z()}}, {"max", {hi.x(), hi.y(), hi.z()}}});
-      j["accessors"].push_back({{"bufferView", view + 1}, {"componentType", 5125}, {"count", 36}, {"type", "SCALAR"}});
-      const int mesh = static_cast<int>(j["meshes"].size());
+      j["accessors"].push_back({{"bufferView", view}, {"componentType", 5126}, {"count", m.vertices.size()},
+                                {"type", "VEC3"}, {"min", {lo.x(), lo.y(), lo.z()}}, {"max", {hi.x(), hi.y(), hi.z()}}});
+      j["accessors"].push_back(
+          {{"bufferView", view + 1}, {"componentType", 5125}, {"count", 3 * m.triangles.size()}, {"type", "SCALAR"}});
+      jn["mesh"] = static_cast<int>(j["meshes"].size());
       j["meshes"].push_back({{"name", n.name + "-mesh"},
                              {"primitives", {{{"attributes", {{"POSITION", acc}}}, {"indices", acc + 1}, {"mode", 4}}}}});
-      jn["mesh"] = mesh;
     }
     j["nodes"].push_back(jn);
   }
@@ -150,6 +162,22 @@ inline std::filesystem::path write_box_gltf(const std::filesystem::path& file, c
                    {"uri", "data:application/octet-stream;base64," + base64(buffer)}}};
   std::ofstream(file, std::ios::binary) << j.dump(1);
   return file;
+}
+
+// Writes a .gltf of boxes. Every coordinate (translations, box corners) is
+// multiplied by `unit` so one tree can be written in m, cm or mm.
+inline std::filesystem::path write_box_gltf(const std::filesystem::path& file, const std::vector<BoxNode>& nodes,
+                                            double unit = 1.0) {
+  std::vector<MeshNode> out;
+  for (const BoxNode& n : nodes) {
+    MeshNode m{n.name, n.parent, n.translation * unit, {}};
+    if (n.box) {
+      m.mesh.vertices = box_corners(n.lo * unit, n.hi * unit);
+      m.mesh.triangles = box_triangles();
+    }
+    out.push_back(std::move(m));
+  }
+  return write_mesh_gltf(file, out);
 }
 
 // The arm used by the scene, kinematics, plan and CLI tests, in metres when

@@ -65,8 +65,9 @@ Mesh box(const Vec3& lo, const Vec3& hi) {
   return m;
 }
 
-// One node of the hand-written glTF: its mesh given in the reference frame
-// (every node transform is the identity; the tree only says what moves with what).
+// One node of the hand-written glTF: name, parent, mesh given in the
+// reference frame (every node transform is the identity; the tree only says
+// what moves with what).
 struct HandNode {
   std::string name;
   int parent;
@@ -74,56 +75,9 @@ struct HandNode {
 };
 
 void write_gltf(const fs::path& file, const std::vector<HandNode>& nodes) {
-  using nlohmann::json;
-  std::vector<unsigned char> buffer;
-  auto put = [&](const void* p, std::size_t n) {
-    const auto* b = static_cast<const unsigned char*>(p);
-    buffer.insert(buffer.end(), b, b + n);
-  };
-  json j;
-  j["asset"] = {{"version", "2.0"}};
-  j["nodes"] = json::array();
-  j["meshes"] = json::array();
-  j["accessors"] = json::array();
-  j["bufferViews"] = json::array();
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    json jn = {{"name", nodes[i].name}};
-    std::vector<int> children;
-    for (std::size_t c = 0; c < nodes.size(); ++c)
-      if (nodes[c].parent == static_cast<int>(i)) children.push_back(static_cast<int>(c));
-    if (!children.empty()) jn["children"] = children;
-    const Mesh& m = nodes[i].mesh;
-    if (!m.triangles.empty()) {
-      const std::size_t pos = buffer.size();
-      Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
-      for (const Vec3& v : m.vertices) {
-        const float f[3] = {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
-        put(f, sizeof f);
-        for (int k = 0; k < 3; ++k) {
-          lo[k] = std::min(lo[k], static_cast<double>(f[k]));
-          hi[k] = std::max(hi[k], static_cast<double>(f[k]));
-        }
-      }
-      const std::size_t idx = buffer.size();
-      for (const Tri& t : m.triangles) put(t.data(), 12);
-      const int view = static_cast<int>(j["bufferViews"].size());
-      j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", pos}, {"byteLength", idx - pos}});
-      j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", idx}, {"byteLength", buffer.size() - idx}});
-      const int acc = static_cast<int>(j["accessors"].size());
-      j["accessors"].push_back({{"bufferView", view}, {"componentType", 5126}, {"count", m.vertices.size()},
-                                {"type", "VEC3"}, {"min", {lo.x(), lo.y(), lo.z()}}, {"max", {hi.x(), hi.y(), hi.z()}}});
-      j["accessors"].push_back(
-          {{"bufferView", view + 1}, {"componentType", 5125}, {"count", 3 * m.triangles.size()}, {"type", "SCALAR"}});
-      jn["mesh"] = static_cast<int>(j["meshes"].size());
-      j["meshes"].push_back({{"primitives", {{{"attributes", {{"POSITION", acc}}}, {"indices", acc + 1}, {"mode", 4}}}}});
-    }
-    j["nodes"].push_back(jn);
-  }
-  j["scenes"] = {{{"nodes", {0}}}};
-  j["scene"] = 0;
-  j["buffers"] = {{{"byteLength", buffer.size()},
-                   {"uri", "data:application/octet-stream;base64," + testing::base64(buffer)}}};
-  write_text(file, j.dump(1));
+  std::vector<testing::MeshNode> out;
+  for (const HandNode& n : nodes) out.push_back({n.name, n.parent, Vec3::Zero(), n.mesh});
+  testing::write_mesh_gltf(file, out);
 }
 
 // The test arm at its zero pose, worked out from arm.urdf by hand: the elbow
