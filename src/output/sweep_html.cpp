@@ -44,9 +44,11 @@ void write_sweep_html(const Checker& checker, const Scene& scene, const std::vec
   bool arm = true;
   PageJson actions = PageJson::array();
   for (const Action& act : scene.actions) {
+    // A URDF mimic joint has no parameter of its own: its master's drives it.
+    const Action& src = act.mimic >= 0 ? scene.actions[static_cast<std::size_t>(act.mimic)] : act;
     int axis = -1, driving = 0;
     for (std::size_t k = 0; k < axes.size(); ++k)
-      if (axes[k].parameter >= act.first_parameter && axes[k].parameter < act.first_parameter + act.parameter_count) {
+      if (axes[k].parameter >= src.first_parameter && axes[k].parameter < src.first_parameter + src.parameter_count) {
         axis = static_cast<int>(k);
         ++driving;
       }
@@ -54,14 +56,14 @@ void write_sweep_html(const Checker& checker, const Scene& scene, const std::vec
     std::vector<float> t;
     if (driving > 1) arm = false;
     if (axis < 0 || driving > 1) {
-      PageFrame{}.affine(action_transform(act, params.data() + act.first_parameter), t);
+      PageFrame{}.affine(action_transform_at(scene, act, params), t);
       actions.push_back({{"axis", -1}, {"transforms", base64_array(t)}});
       continue;
     }
     const SweepAxis& a = axes[static_cast<std::size_t>(axis)];
     for (double v : a.values) {
       params[static_cast<std::size_t>(a.parameter)] = v;
-      PageFrame{}.affine(action_transform(act, params.data() + act.first_parameter), t);
+      PageFrame{}.affine(action_transform_at(scene, act, params), t);
     }
     actions.push_back({{"axis", axis}, {"transforms", base64_array(t)}});
   }
