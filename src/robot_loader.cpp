@@ -366,7 +366,32 @@ std::vector<std::pair<int, int>> add_robot(const RobotSpec& spec, Scene& scene) 
   parse_xml(doc, text, file);
   if (doc.FirstChildElement("robot") == nullptr) fail(file, "not a URDF: the root element is not <robot>");
   const Lines lines = element_lines(doc);
+  // Every link some joint's child: a joint cycle with no root. Said here,
+  // before urdfdom, which gives up on it with the cycle's shared pointers
+  // still holding each other (a leak inside the library).
+  if (!lines.link.empty()) {
+    std::set<std::string> children;
+    for (const auto* e = doc.FirstChildElement("robot")->FirstChildElement("joint"); e != nullptr;
+         e = e->NextSiblingElement("joint"))
+      if (const auto* c = e->FirstChildElement("child"); c != nullptr && c->Attribute("link") != nullptr)
+        children.insert(c->Attribute("link"));
+    if (std::all_of(lines.link.begin(), lines.link.end(), [&](const auto& l) { return children.count(l.first) > 0; }))
+      fail(file, "no root link (every link is some joint's child: a joint cycle)");
+  }
   const urdf::ModelInterfaceSharedPtr model = parse_urdf(text, file);
+  // urdfdom links hold their children by shared pointer: a model with a joint
+  // cycle (refused below) would never be freed. Cut every link's ties when
+  // this function is left, whichever way.
+  struct CutTies {
+    const urdf::ModelInterfaceSharedPtr& model;
+    ~CutTies() {
+      for (auto& [name, link] : model->links_) {
+        link->child_links.clear();
+        link->child_joints.clear();
+        link->parent_joint.reset();
+      }
+    }
+  } cut_ties{model};
 
   auto link_where = [&](const std::string& name) {
     auto it = lines.link.find(name);

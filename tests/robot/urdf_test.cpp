@@ -476,6 +476,10 @@ TEST(RobotErrors, JointCycleAndTwoRoots) {
   const fs::path loop = dir.write("loop.urdf", "<robot name=\"c\">" + links + "\n" + joint("bc", "b", "c") +
                                                    joint("cb", "c", "b") + "</robot>");
   expect_input_error([&] { load_scene(loop); }, {"loop.urdf", "joint cycle"});
+  // Every link in the cycle: no root at all (refused before urdfdom sees it).
+  const fs::path ring = dir.write("ring.urdf", "<robot name=\"c\"><link name=\"b\"/><link name=\"c\"/>\n" +
+                                                   joint("bc", "b", "c") + joint("cb", "c", "b") + "</robot>");
+  expect_input_error([&] { load_scene(ring); }, {"ring.urdf", "no root link", "joint cycle"});
   const fs::path roots = dir.write("roots.urdf", "<robot name=\"r\">" + links + "\n" + joint("ab", "a", "b") + "</robot>");
   expect_input_error([&] { load_scene(roots); }, {"roots.urdf", "Two root links"});
 }
