@@ -29,16 +29,6 @@ Json num_json(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
 Json point_json(const Vec3& p, double unit) { return Json::array({p.x() / unit, p.y() / unit, p.z() / unit}); }
 
-void write_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) fail(tmp, "cannot write");
-    f << text;
-    if (!f.flush()) fail(tmp, "write failed");
-  }
-  std::filesystem::rename(tmp, path);
-}
 
 std::string pair_text(const Checker& c, int a, int b) {
   if (a < 0) return "-";
@@ -92,6 +82,17 @@ void print_plan_lines(const Checker& checker, const Scene& scene, const std::vec
                 results.size(), states, info.load_seconds + info.build_seconds + info.check_seconds,
                 info.load_seconds, info.build_seconds, info.check_seconds, info.threads);
   out << tail;
+}
+
+void write_atomically(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) fail(tmp, "cannot write");
+    f << text;
+    if (!f.flush()) fail(tmp, "write failed");
+  }
+  std::filesystem::rename(tmp, path);
 }
 
 void write_reports(const Checker& checker, const Scene& scene, const std::vector<PlanResult>& results,

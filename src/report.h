@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <iosfwd>
+#include <string>
 #include <vector>
 
 namespace plancheck {
@@ -26,6 +27,10 @@ struct RunInfo {
 // One line per plan, then a summary line.
 void print_plan_lines(const Checker& checker, const Scene& scene, const std::vector<PlanResult>& results,
                       const RunInfo& info, std::ostream& out);
+
+// Writes `text` to PATH.tmp and renames it into place, so a reader never sees
+// a half-written file. Throws InputError naming the file.
+void write_atomically(const std::filesystem::path& path, const std::string& text);
 
 // Writes DIR/<plan>.csv for every plan and DIR/report.json last, each through
 // a temporary file renamed into place, so a report that exists is complete.

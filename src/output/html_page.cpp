@@ -2,8 +2,8 @@
 #include "src/output/html_page.h"
 
 #include "src/error.h"
+#include "src/report.h"
 
-#include <fstream>
 
 // The bundle's bytes, from the generated viewer_bundle.cpp (src/CMakeLists.txt).
 extern "C" {
@@ -91,14 +91,7 @@ void write_html_page(const std::filesystem::path& file, std::string_view title, 
   append_script_text(page, bundle);
   page.append(kScriptClose).append("\n</body>\n</html>\n");
 
-  const std::filesystem::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) fail(tmp, "cannot write");
-    f << page;
-    if (!f.flush()) fail(tmp, "write failed");
-  }
-  std::filesystem::rename(tmp, file);
+  write_atomically(file, page);
 }
 
 std::string html_page_data(std::string_view page) {
