@@ -9,8 +9,11 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
-#include <cstring>
+#include <filesystem>
+#include <map>
+#include <optional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -33,10 +36,14 @@ struct PyResult {
 
 class PyScene {
  public:
-  PyScene(const std::string& path, int threads) {
+  PyScene(const std::filesystem::path& path, int threads, const std::optional<std::filesystem::path>& srdf,
+          const std::map<std::string, std::filesystem::path>& packages) {
+    plancheck::LoadOptions options;
+    if (srdf) options.srdf = srdf->string();
+    for (const auto& [name, dir] : packages) options.packages[name] = dir.string();
     // Loading and building take a while (BVHs over the model): without the GIL.
     py::gil_scoped_release release;
-    scene_ = std::make_unique<plancheck::Scene>(plancheck::Scene::load(path));
+    scene_ = std::make_unique<plancheck::Scene>(plancheck::Scene::load(path.string(), options));
     checker_ = std::make_unique<plancheck::Checker>(*scene_, threads);
   }
 
@@ -134,8 +141,12 @@ PYBIND11_MODULE(plancheck, m) {
 
   py::class_<PyScene>(m, "Scene",
                       "A scene loaded and its collision structures built (raises plancheck.Error on bad input).")
-      .def(py::init<const std::string&, int>(), py::arg("path"), py::arg("threads") = 0,
-           "Loads a plancheck-scene/1 JSON (or a .urdf) and builds its checker; threads=0: all cores.")
+      .def(py::init<const std::filesystem::path&, int, const std::optional<std::filesystem::path>&,
+                    const std::map<std::string, std::filesystem::path>&>(),
+           py::arg("path"), py::arg("threads") = 0, py::arg("srdf") = py::none(),
+           py::arg("packages") = std::map<std::string, std::filesystem::path>(),
+           "Loads a plancheck-scene/1 JSON (or a .urdf; srdf and packages as verify's --srdf and\n"
+           "--package NAME=DIR) and builds its checker; threads=0: all cores.")
       .def_property_readonly("parameter_names", [](const PyScene& s) { return s.scene().parameter_names(); },
                              "plan column names, in order: the columns of a states array")
       .def_property_readonly("part_names", [](const PyScene& s) { return s.checker().part_names(); },

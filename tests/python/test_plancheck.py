@@ -122,7 +122,7 @@ class ModuleTest(unittest.TestCase):
         self.assertEqual(status, 1)
         report = json.loads((self.dir / "out" / "report.json").read_text())
 
-        scene = plancheck.Scene(str(scene_file), threads=2)
+        scene = plancheck.Scene(scene_file, threads=2)  # a pathlib.Path or a str
         self.assertEqual(scene.parameter_names, ["J1"])
         self.assertEqual(scene.length_unit, unit)
         states = np.array(BAR_ANGLES).reshape(-1, 1)
