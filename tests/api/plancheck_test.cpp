@@ -359,7 +359,9 @@ TEST(ApiDataset, DefaultPlansEqualVerify) {
   for (const auto& e : fs::directory_iterator(data / "plans")) plans.push_back(e.path());
   std::sort(plans.begin(), plans.end());
 #ifdef PLANCHECK_SANITIZED
-  plans.resize(2);  // the same comparison, at sanitizer speed
+  // The same comparison at sanitizer speed: the collision and the clearance plan.
+  std::erase_if(plans, [](const fs::path& p) { return p.stem() != "plan04" && p.stem() != "plan07"; });
+  ASSERT_EQ(plans.size(), 2u);
 #endif
   std::string args = "\"" + nodig.string() + "\"";
   for (const auto& p : plans) args += " \"" + p.string() + "\"";
