@@ -79,7 +79,7 @@ test-asan: dataset
 # std::thread there (src/parallel.cpp says why); tests/tsan.supp lists what
 # is suppressed. Only the executables holding such tests are built.
 TSAN_TESTS ?= Thread|Concurren|^Parallel\.
-TSAN_TARGETS ?= plancheck plancheck_foundation_tests plancheck_geometry_tests plancheck_terrain_tests plancheck_verify_tests \
+TSAN_TARGETS ?= plancheck plancheck_api_tests plancheck_foundation_tests plancheck_geometry_tests plancheck_terrain_tests plancheck_verify_tests \
                 plancheck_output_tests
 test-tsan: dataset
 	cmake -S . -B $(TSAN_BUILD) $(SAN_CMAKE) -DPLANCHECK_TSAN=ON

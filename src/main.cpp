@@ -42,6 +42,7 @@ plancheck::SceneOptions scene_options(const std::string& srdf, const std::vector
 int main(int argc, char** argv) {
   CLI::App app{"plancheck: verify robot-arm motion plans against a scene"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("plancheck ") + PLANCHECK_VERSION);  // project(VERSION), src/api/CMakeLists.txt
 
   std::string scene_file;
   std::string srdf;

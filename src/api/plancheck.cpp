@@ -1,0 +1,238 @@
+// SPDX-License-Identifier: MIT
+// The public API (plancheck/plancheck.h) over the core: a thin layer that
+// converts units, validates states and turns the core's errors into
+// plancheck::Error with verify's message.
+//
+// The core's types (plancheck::Scene, plancheck::Checker, ...) share short
+// names with the public ones (plancheck::v0::...): they are given aliases
+// here before the public header is read, and only the aliases are used after.
+#include "src/error.h"
+#include "src/parallel.h"
+#include "src/scene_loader.h"
+#include "src/verify.h"
+
+namespace plancheck_core {
+using Scene = ::plancheck::Scene;
+using Checker = ::plancheck::Checker;
+using StateResult = ::plancheck::StateResult;
+using Verdict = ::plancheck::Verdict;
+using ActionType = ::plancheck::ActionType;
+using InputError = ::plancheck::InputError;
+using SceneOptions = ::plancheck::SceneOptions;
+using ::plancheck::hardware_threads;
+using ::plancheck::load_scene;
+using ::plancheck::parallel_for;
+using ::plancheck::state_verdict;
+}  // namespace plancheck_core
+
+#include "src/api/plancheck/plancheck.h"
+
+#include <cmath>
+#include <exception>
+#include <utility>
+
+#ifndef PLANCHECK_VERSION
+#error "PLANCHECK_VERSION must be defined by the build (project(VERSION))"
+#endif
+
+namespace plancheck {
+inline namespace v0 {
+
+namespace detail {
+
+struct SceneData {
+  plancheck_core::Scene scene;
+  std::vector<bool> is_factor;  // per parameter: a scale factor (must be positive)
+};
+
+struct CheckerData {
+  std::shared_ptr<const SceneData> scene;  // the core checker refers to it
+  std::unique_ptr<const plancheck_core::Checker> checker;
+  std::vector<std::string> part_names;
+  int threads = 1;
+};
+
+}  // namespace detail
+
+namespace {
+
+// Runs f and turns what the core throws into Error, with the text the
+// command line prints after "plancheck: " (src/main.cpp).
+template <class F>
+auto translated(F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const Error&) {
+    throw;
+  } catch (const plancheck_core::InputError& e) {
+    throw Error(e.what());
+  } catch (const std::exception& e) {
+    throw Error(std::string("error: ") + e.what());
+  }
+}
+
+// Throws Error when `state` (n values) cannot be checked; `where` prefixes
+// the message ("state" or "state 12").
+void validate(const detail::SceneData& data, const double* state, std::size_t n, const std::string& where) {
+  const std::vector<std::string>& names = data.scene.parameter_names;
+  if (n != names.size()) {
+    std::string list;
+    for (const std::string& name : names) list += (list.empty() ? "" : ", ") + name;
+    throw Error(where + ": expected " + std::to_string(names.size()) + " values (" + list + "), got " +
+                std::to_string(n));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(state[i]))
+      throw Error(where + ": parameter '" + names[i] + "' is not a finite number");
+    if (data.is_factor[i] && !(state[i] > 0))
+      throw Error(where + ": parameter '" + names[i] + "': scale factor must be positive");
+  }
+}
+
+Verdict public_verdict(plancheck_core::Verdict v) {
+  switch (v) {
+    case plancheck_core::Verdict::kCollision: return Verdict::kCollision;
+    case plancheck_core::Verdict::kClearance: return Verdict::kClearance;
+    case plancheck_core::Verdict::kLimits: return Verdict::kLimits;
+    default: return Verdict::kSafe;  // kTarget is a plan's, never a state's
+  }
+}
+
+// One state, as verify's CSV row reports it (src/report.cpp) and as verify
+// ranks it (state_verdict).
+void check_one(const detail::CheckerData& d, const std::vector<double>& params, StateResult& out) {
+  plancheck_core::StateResult st;
+  d.checker->check_state(params, st);
+  const plancheck_core::Scene& scene = d.scene->scene;
+  const double unit = scene.length_scale;
+  out.collision = st.collision;
+  out.part_a_index = st.part_a;
+  out.part_b_index = st.part_b;
+  if (st.part_a >= 0) {
+    out.min_distance = st.min_distance / unit;
+    out.part_a = d.part_names[static_cast<std::size_t>(st.part_a)];
+    out.part_b = d.part_names[static_cast<std::size_t>(st.part_b)];
+    for (int i = 0; i < 3; ++i) {
+      out.point_a[static_cast<std::size_t>(i)] = st.point_a[i] / unit;
+      out.point_b[static_cast<std::size_t>(i)] = st.point_b[i] / unit;
+    }
+  } else {
+    out.min_distance = std::numeric_limits<double>::infinity();
+    out.part_a.clear();
+    out.part_b.clear();
+    out.point_a = {};
+    out.point_b = {};
+  }
+  out.limits = st.limit_action >= 0 ? scene.actions[static_cast<std::size_t>(st.limit_action)].name : std::string();
+  out.verdict = public_verdict(plancheck_core::state_verdict(st, scene.safety_margin));
+}
+
+}  // namespace
+
+const char* version() noexcept { return PLANCHECK_VERSION; }
+
+Error::Error(const std::string& message) : std::runtime_error(message) {}
+Error::~Error() = default;
+
+const char* verdict_name(Verdict v) noexcept {
+  switch (v) {
+    case Verdict::kSafe: return "safe";
+    case Verdict::kClearance: return "clearance";
+    case Verdict::kCollision: return "collision";
+    case Verdict::kLimits: return "limits";
+  }
+  return "?";
+}
+
+Scene::Scene(std::shared_ptr<const detail::SceneData> data) : data_(std::move(data)) {}
+
+Scene Scene::load(const std::string& path, const LoadOptions& options) {
+  return translated([&] {
+    plancheck_core::SceneOptions o;
+    o.srdf = options.srdf;
+    for (const auto& [name, dir] : options.packages) o.packages[name] = dir;
+    auto data = std::make_shared<detail::SceneData>(detail::SceneData{plancheck_core::load_scene(path, o), {}});
+    data->is_factor.assign(data->scene.parameter_names.size(), false);
+    for (const auto& a : data->scene.actions)
+      if (a.type == plancheck_core::ActionType::kScale)
+        for (int k = 0; k < a.parameter_count; ++k) data->is_factor[static_cast<std::size_t>(a.first_parameter + k)] = true;
+    return Scene(std::move(data));
+  });
+}
+
+const std::vector<std::string>& Scene::parameter_names() const { return data_->scene.parameter_names; }
+std::vector<double> Scene::reference_state() const { return data_->scene.reference_parameters; }
+
+std::vector<double> Scene::lower_limits() const {
+  std::vector<double> out(data_->scene.parameter_names.size(), -std::numeric_limits<double>::infinity());
+  for (const auto& a : data_->scene.actions)
+    if (a.has_limits)
+      for (int k = 0; k < a.parameter_count; ++k) out[static_cast<std::size_t>(a.first_parameter + k)] = a.lower;
+  return out;
+}
+
+std::vector<double> Scene::upper_limits() const {
+  std::vector<double> out(data_->scene.parameter_names.size(), std::numeric_limits<double>::infinity());
+  for (const auto& a : data_->scene.actions)
+    if (a.has_limits)
+      for (int k = 0; k < a.parameter_count; ++k) out[static_cast<std::size_t>(a.first_parameter + k)] = a.upper;
+  return out;
+}
+
+double Scene::safety_margin() const { return data_->scene.safety_margin / data_->scene.length_scale; }
+std::string Scene::length_unit() const { return data_->scene.length_unit; }
+std::string Scene::angle_unit() const { return data_->scene.angle_unit; }
+
+Checker::Checker(const Scene& scene, int threads) {
+  data_ = translated([&] {
+    auto d = std::make_shared<detail::CheckerData>();
+    d->scene = scene.data_;
+    d->threads = threads > 0 ? threads : plancheck_core::hardware_threads();
+    d->checker = std::make_unique<const plancheck_core::Checker>(d->scene->scene, d->threads);
+    for (std::size_t i = 0; i < d->checker->part_count(); ++i) d->part_names.push_back(d->checker->part_name(static_cast<int>(i)));
+    return std::shared_ptr<const detail::CheckerData>(std::move(d));
+  });
+}
+
+StateResult Checker::check(const std::vector<double>& state) const {
+  validate(*data_->scene, state.data(), state.size(), "state");
+  StateResult out;
+  translated([&] { check_one(*data_, state, out); });
+  return out;
+}
+
+std::vector<StateResult> Checker::check_batch(const std::vector<std::vector<double>>& states) const {
+  const std::size_t n = parameter_count();
+  for (std::size_t i = 0; i < states.size(); ++i)
+    validate(*data_->scene, states[i].data(), states[i].size(), "state " + std::to_string(i));
+  std::vector<double> rows;
+  rows.reserve(states.size() * n);
+  for (const auto& s : states) rows.insert(rows.end(), s.begin(), s.end());
+  std::vector<StateResult> out(states.size());
+  check_batch(rows.data(), states.size(), out.data());
+  return out;
+}
+
+void Checker::check_batch(const double* states, std::size_t count, StateResult* out) const {
+  const std::size_t n = parameter_count();
+  for (std::size_t i = 0; i < count; ++i) validate(*data_->scene, states + i * n, n, "state " + std::to_string(i));
+  // States are independent (no coherence seed between them), so out[i] is
+  // check(state i) bit for bit whatever the thread count. Small chunks: a
+  // state costs tens of microseconds or more.
+  translated([&] {
+    plancheck_core::parallel_for(count, data_->threads, 4, [&](std::size_t begin, std::size_t end, int) {
+      std::vector<double> params(n);
+      for (std::size_t i = begin; i < end; ++i) {
+        params.assign(states + i * n, states + (i + 1) * n);
+        check_one(*data_, params, out[i]);
+      }
+    });
+  });
+}
+
+const std::vector<std::string>& Checker::part_names() const { return data_->part_names; }
+std::size_t Checker::parameter_count() const { return data_->scene->scene.parameter_names.size(); }
+int Checker::threads() const { return data_->threads; }
+
+}  // namespace v0
+}  // namespace plancheck

@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: MIT
+// plancheck as a library: load a scene, then check robot states against it
+// with the same per-state answers as `plancheck verify` (contract:
+// shared/spec/plan-and-report-format.md, "Embedding").
+//
+//   plancheck::Scene scene = plancheck::Scene::load("scene.json");  // throws plancheck::Error
+//   plancheck::Checker checker(scene);                               // thread-safe
+//   std::vector<double> state(scene.parameter_names().size(), 0.0);  // plan units, as written
+//   plancheck::StateResult r = checker.check(state);
+//   if (r.verdict != plancheck::Verdict::kSafe) ...
+//
+// Units are the scene's: states in plan units as a plan CSV writes them
+// (degrees stay degrees, 720 is two turns), lengths in the scene's
+// length_unit. Every state is checked on its own on the scene's initial
+// terrain: nothing is dug (digging happens only along a plan in `verify`).
+//
+// This header is the whole public interface: it needs only the standard
+// library, and the library exports nothing else.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+// The library is built with hidden visibility: only what carries this is exported.
+#define PLANCHECK_API __attribute__((visibility("default")))
+
+namespace plancheck {
+// The public types sit in an inline namespace: callers write plancheck::Scene,
+// while the library's own internal types of the same short names (the
+// loader's plancheck::Scene, the core's plancheck::Checker) never share a
+// mangled name with them. A TU must not include both.
+inline namespace v0 {
+
+namespace detail {
+struct SceneData;
+struct CheckerData;
+}  // namespace detail
+
+// The library's version (semantic versioning), as `plancheck --version` prints it.
+PLANCHECK_API const char* version() noexcept;
+
+// Bad input: a scene, model, DEM or state that cannot be used. what() is the
+// message `plancheck verify` prints for the same input, after its
+// "plancheck: " prefix.
+class PLANCHECK_API Error : public std::runtime_error {
+ public:
+  explicit Error(const std::string& message);
+  ~Error() override;
+};
+
+// A state's verdict, ranked as `verify` ranks it; the values are the codes of
+// `sweep`'s verdict.npy.
+enum class Verdict : std::uint8_t {
+  kSafe = 0,       // no checked pair closer than the safety margin, all parameters within limits
+  kClearance = 1,  // a checked pair below the margin (or too close to it to settle in double)
+  kCollision = 2,  // two checked parts intersect or touch
+  kLimits = 3,     // a driving parameter outside its limits (no collision, no clearance violation)
+};
+PLANCHECK_API const char* verdict_name(Verdict v) noexcept;  // "safe", "clearance", "collision", "limits"
+
+// What one state shows: one row of verify's per-plan CSV, and its verdict.
+struct StateResult {
+  bool collision = false;  // some checked pair intersects or touches
+  // Minimum distance over the checked pairs (length_unit; 0 when colliding;
+  // infinity when the scene checks no pair).
+  double min_distance = std::numeric_limits<double>::infinity();
+  // The pair at min_distance (the first colliding pair when colliding),
+  // moving part first; "" and -1 when no pair is checked. Indices are into
+  // Checker::part_names().
+  std::string part_a, part_b;
+  int part_a_index = -1, part_b_index = -1;
+  // Closest points on part_a and part_b (length_unit, scene reference frame).
+  std::array<double, 3> point_a{}, point_b{};
+  // The first driving parameter's action outside its limits ("" none), as
+  // verify's CSV `limits` column names it.
+  std::string limits;
+  Verdict verdict = Verdict::kSafe;
+};
+
+// What Scene::load reads beside the scene file (the command line's --srdf
+// and --package options; for a bare .urdf scene).
+struct LoadOptions {
+  std::string srdf;                           // SRDF whose disable_collisions pairs are allowed
+  std::map<std::string, std::string> packages;  // package name -> folder, for package:// meshes
+};
+
+// A loaded scene: parts, actions, checked pairs, terrain. Immutable; copies
+// share the loaded data.
+class PLANCHECK_API Scene {
+ public:
+  // Reads a plancheck-scene/1 JSON (or a bare .urdf) and the files it names.
+  // Throws Error with verify's message for the same file.
+  static Scene load(const std::string& path, const LoadOptions& options = {});
+
+  // The plan column names in order: one per rotation or axis translation,
+  // NAME.x, NAME.y, NAME.z for a free translation or a scale. A state is one
+  // value per name.
+  const std::vector<std::string>& parameter_names() const;
+  // The reference state (0 for rotations and translations, 1 for scales).
+  std::vector<double> reference_state() const;
+  // Limits per parameter in plan units (-inf/+inf where the action has none).
+  std::vector<double> lower_limits() const;
+  std::vector<double> upper_limits() const;
+  double safety_margin() const;     // length_unit
+  std::string length_unit() const;  // as written in the scene ("m", "mm", ...)
+  std::string angle_unit() const;   // "deg" or "rad"
+
+ private:
+  friend class Checker;
+  explicit Scene(std::shared_ptr<const detail::SceneData> data);
+  std::shared_ptr<const detail::SceneData> data_;
+};
+
+// The collision structures of a scene, built once. Every method is const and
+// may be called from any number of threads at once.
+class PLANCHECK_API Checker {
+ public:
+  // Builds on `threads` threads (0: all hardware threads); check_batch uses
+  // as many. Throws Error (for example an unreadable DEM) with verify's message.
+  explicit Checker(const Scene& scene, int threads = 0);
+
+  // Checks one state: scene.parameter_names().size() values in plan units.
+  // Throws Error if the count is wrong, a value is not finite, or a scale
+  // factor is not positive.
+  StateResult check(const std::vector<double>& state) const;
+
+  // Checks many independent states on all the checker's threads; result i is
+  // check(states[i]). Throws Error naming the first bad state (by index)
+  // before anything is checked.
+  std::vector<StateResult> check_batch(const std::vector<std::vector<double>>& states) const;
+
+  // The same over `count` states stored row by row (count x parameter count
+  // doubles, C order) into out[0..count). For callers holding a matrix.
+  void check_batch(const double* states, std::size_t count, StateResult* out) const;
+
+  // Parts as StateResult indexes them: the scene's parts, then "terrain"
+  // when the terrain collides.
+  const std::vector<std::string>& part_names() const;
+  std::size_t parameter_count() const;
+  int threads() const;  // threads check_batch runs on
+
+ private:
+  std::shared_ptr<const detail::CheckerData> data_;
+};
+
+}  // namespace v0
+}  // namespace plancheck

@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: MIT
+// The Python module `plancheck`: a thin layer over the public C++ API
+// (plancheck/plancheck.h), contract in shared/spec/plan-and-report-format.md
+// ("Embedding"). A batch is checked on all the scene's threads with the GIL
+// released; bad input raises plancheck.Error (a ValueError) with the message
+// `plancheck verify` prints for the same input.
+#include <plancheck/plancheck.h>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace {
+
+// Per-state answers as NumPy arrays (one entry per row of the states).
+struct PyResult {
+  py::array_t<bool> collision;
+  py::array_t<double> min_distance;    // length_unit; 0 in contact; inf: no checked pair
+  py::array_t<std::uint8_t> verdict;   // 0 safe, 1 clearance, 2 collision, 3 limits (verdict.npy codes)
+  py::array_t<std::int32_t> part_a;    // index into part_names; -1: none
+  py::array_t<std::int32_t> part_b;
+  py::array_t<double> point_a;         // (n, 3), length_unit, reference frame
+  py::array_t<double> point_b;
+  py::list part_names;
+};
+
+class PyScene {
+ public:
+  PyScene(const std::filesystem::path& path, int threads, const std::optional<std::filesystem::path>& srdf,
+          const std::map<std::string, std::filesystem::path>& packages) {
+    plancheck::LoadOptions options;
+    if (srdf) options.srdf = srdf->string();
+    for (const auto& [name, dir] : packages) options.packages[name] = dir.string();
+    // Loading and building take a while (BVHs over the model): without the GIL.
+    py::gil_scoped_release release;
+    scene_ = std::make_unique<plancheck::Scene>(plancheck::Scene::load(path.string(), options));
+    checker_ = std::make_unique<plancheck::Checker>(*scene_, threads);
+  }
+
+  const plancheck::Scene& scene() const { return *scene_; }
+  const plancheck::Checker& checker() const { return *checker_; }
+
+  PyResult check(const py::handle& states_in, bool /*verdict_only*/) const {
+    // Any array-like of numbers; rows are states, columns parameter_names.
+    auto states = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(states_in);
+    if (!states) throw plancheck::Error("states: expected a 2-D array of numbers (rows: states, columns: parameter_names)");
+    const std::size_t n = checker_->parameter_count();
+    if (states.ndim() != 2 || static_cast<std::size_t>(states.shape(1)) != n)
+      throw plancheck::Error("states: expected a 2-D array of shape (states, " + std::to_string(n) +
+                             ") (columns: parameter_names), got shape " + shape_text(states));
+    const std::size_t count = static_cast<std::size_t>(states.shape(0));
+    std::vector<plancheck::StateResult> results(count);
+    {
+      py::gil_scoped_release release;  // states is held by this frame: its buffer stays valid
+      checker_->check_batch(states.data(), count, results.data());
+    }
+    PyResult r;
+    const auto c = static_cast<py::ssize_t>(count);
+    r.collision = py::array_t<bool>(c);
+    r.min_distance = py::array_t<double>(c);
+    r.verdict = py::array_t<std::uint8_t>(c);
+    r.part_a = py::array_t<std::int32_t>(c);
+    r.part_b = py::array_t<std::int32_t>(c);
+    r.point_a = py::array_t<double>({c, py::ssize_t{3}});
+    r.point_b = py::array_t<double>({c, py::ssize_t{3}});
+    auto collision = r.collision.mutable_unchecked<1>();
+    auto distance = r.min_distance.mutable_unchecked<1>();
+    auto verdict = r.verdict.mutable_unchecked<1>();
+    auto pa = r.part_a.mutable_unchecked<1>();
+    auto pb = r.part_b.mutable_unchecked<1>();
+    auto qa = r.point_a.mutable_unchecked<2>();
+    auto qb = r.point_b.mutable_unchecked<2>();
+    for (py::ssize_t i = 0; i < c; ++i) {
+      const plancheck::StateResult& s = results[static_cast<std::size_t>(i)];
+      collision(i) = s.collision;
+      distance(i) = s.min_distance;
+      verdict(i) = static_cast<std::uint8_t>(s.verdict);
+      pa(i) = s.part_a_index;
+      pb(i) = s.part_b_index;
+      for (py::ssize_t k = 0; k < 3; ++k) {
+        qa(i, k) = s.point_a[static_cast<std::size_t>(k)];
+        qb(i, k) = s.point_b[static_cast<std::size_t>(k)];
+      }
+    }
+    r.part_names = py::cast(checker_->part_names());
+    return r;
+  }
+
+ private:
+  static std::string shape_text(const py::array& a) {
+    std::string s = "(";
+    for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
+    return s + (a.ndim() == 1 ? ",)" : ")");
+  }
+  std::unique_ptr<plancheck::Scene> scene_;
+  std::unique_ptr<plancheck::Checker> checker_;
+};
+
+// Names of the parts at part_a/part_b (None where -1), for printing.
+py::list names_of(const PyResult& r, const py::array_t<std::int32_t>& idx) {
+  py::list out;
+  auto v = idx.unchecked<1>();
+  for (py::ssize_t i = 0; i < v.shape(0); ++i)
+    out.append(v(i) < 0 ? py::object(py::none()) : py::object(r.part_names[static_cast<std::size_t>(v(i))]));
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(plancheck, m) {
+  m.doc() = "plancheck: check robot-arm states against a scene with the answers of `plancheck verify`";
+  m.attr("__version__") = plancheck::version();
+  py::register_exception<plancheck::Error>(m, "Error", PyExc_ValueError);
+
+  py::class_<PyResult>(m, "CheckResult",
+                       "Per-state answers of Scene.check, one entry per row of the states (NumPy arrays).")
+      .def_readonly("collision", &PyResult::collision, "bool: two checked parts intersect or touch")
+      .def_readonly("min_distance", &PyResult::min_distance,
+                    "float64: minimum distance over the checked pairs (length_unit); 0 in contact, inf with no pair")
+      .def_readonly("verdict", &PyResult::verdict, "uint8: 0 safe, 1 clearance, 2 collision, 3 limits (as verdict.npy)")
+      .def_readonly("part_a", &PyResult::part_a, "int32: the closest (or first colliding) pair's moving part, index into part_names; -1: none")
+      .def_readonly("part_b", &PyResult::part_b, "int32: the other part of that pair")
+      .def_readonly("point_a", &PyResult::point_a, "float64 (n, 3): closest point on part_a (length_unit, reference frame)")
+      .def_readonly("point_b", &PyResult::point_b, "float64 (n, 3): closest point on part_b")
+      .def_readonly("part_names", &PyResult::part_names, "the parts part_a and part_b index")
+      .def_property_readonly("part_a_names", [](const PyResult& r) { return names_of(r, r.part_a); },
+                             "part_a as names (None where -1)")
+      .def_property_readonly("part_b_names", [](const PyResult& r) { return names_of(r, r.part_b); },
+                             "part_b as names (None where -1)")
+      .def("__len__", [](const PyResult& r) { return r.verdict.shape(0); });
+
+  py::class_<PyScene>(m, "Scene",
+                      "A scene loaded and its collision structures built (raises plancheck.Error on bad input).")
+      .def(py::init<const std::filesystem::path&, int, const std::optional<std::filesystem::path>&,
+                    const std::map<std::string, std::filesystem::path>&>(),
+           py::arg("path"), py::arg("threads") = 0, py::arg("srdf") = py::none(),
+           py::arg("packages") = std::map<std::string, std::filesystem::path>(),
+           "Loads a plancheck-scene/1 JSON (or a .urdf; srdf and packages as verify's --srdf and\n"
+           "--package NAME=DIR) and builds its checker; threads=0: all cores.")
+      .def_property_readonly("parameter_names", [](const PyScene& s) { return s.scene().parameter_names(); },
+                             "plan column names, in order: the columns of a states array")
+      .def_property_readonly("part_names", [](const PyScene& s) { return s.checker().part_names(); },
+                             "checked parts (the scene's parts, then 'terrain' when it collides)")
+      .def_property_readonly("reference_state", [](const PyScene& s) { return s.scene().reference_state(); })
+      .def_property_readonly("safety_margin", [](const PyScene& s) { return s.scene().safety_margin(); },
+                             "length_unit")
+      .def_property_readonly("length_unit", [](const PyScene& s) { return s.scene().length_unit(); })
+      .def_property_readonly("angle_unit", [](const PyScene& s) { return s.scene().angle_unit(); })
+      .def_property_readonly("threads", [](const PyScene& s) { return s.checker().threads(); })
+      .def("check", &PyScene::check, py::arg("states"), py::arg("verdict_only") = false,
+           "Checks each row of `states` (2-D, columns parameter_names, plan units as written) as an\n"
+           "independent state on the scene's initial terrain, on all threads without the GIL.\n"
+           "verdict_only=True is accepted and currently runs the full check (the same verdicts, and\n"
+           "exact distances); a faster verdict-only path is planned (issue 16).");
+}

@@ -1,0 +1,242 @@
+# SPDX-License-Identifier: MIT
+"""The Python module `plancheck` gives `plancheck verify`'s per-state answers.
+
+Run by ctest (tests/python/CMakeLists.txt) with PYTHONPATH=build/python and
+PLANCHECK_BINARY_DIR set; every answer is compared with the CSV rows and the
+report.json verdicts that verify writes for the same states.
+"""
+import csv
+import json
+import math
+import os
+import pathlib
+import subprocess
+import tempfile
+import threading
+import unittest
+
+import numpy as np
+
+import plancheck
+
+BINARY = pathlib.Path(os.environ.get("PLANCHECK_BINARY_DIR", "build"))
+VERDICTS = {0: "safe", 1: "clearance", 2: "collision", 3: "limits"}
+
+
+def verify(scene, plans, out):
+    """Runs `plancheck verify --quiet`; returns (status, stderr)."""
+    p = subprocess.run([str(BINARY / "plancheck"), "verify", str(scene), *map(str, plans),
+                        "--out", str(out), "--quiet"],
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    return p.returncode, p.stderr
+
+
+def num(v):
+    """verify's CSV number format (src/report.cpp)."""
+    return "" if not math.isfinite(v) else "%.12g" % v
+
+
+def box(name, lo, hi, base):
+    v = [(hi if i & 1 else lo)[0:1] + (hi if i & 2 else lo)[1:2] + (hi if i & 4 else lo)[2:3] for i in range(8)]
+    faces = [(0, 2, 1), (1, 2, 3), (4, 5, 6), (5, 7, 6), (0, 1, 4), (1, 5, 4),
+             (2, 6, 3), (3, 6, 7), (0, 4, 2), (2, 4, 6), (1, 3, 5), (3, 7, 5)]
+    text = "o %s\n" % name + "".join("v %r %r %r\n" % tuple(p) for p in v)
+    return text + "".join("f %d %d %d\n" % tuple(base + i + 1 for i in f) for f in faces)
+
+
+def write_bar_scene(folder, scale=1.0, unit="m"):
+    """The stiff case of tests/api: a 2-unit bar pitching 1 unit above a slab."""
+    s = lambda *xs: [x * scale for x in xs]
+    (folder / "model.obj").write_text(box("Slab", s(-3, -1, -1), s(3, 1, 0), 0) +
+                                      box("Bar", s(0, -0.1, 0.9), s(2, 0.1, 1.1), 8))
+    (folder / "scene.json").write_text(json.dumps({
+        "format": "plancheck-scene/1", "model": "model.obj", "length_unit": unit, "angle_unit": "deg",
+        "actions": [{"name": "J1", "node": "Bar", "type": "rotate", "pivot": s(0, 0, 1),
+                     "axis": [0, 1, 0], "limits": [-90, 30]}],
+        "safety_margin": 0.05 * scale}))
+    return folder / "scene.json"
+
+
+# Degrees as written: far, around the margin (25.458364447446368), around
+# contact (27.096330350410646), in contact, beyond the limits.
+BAR_ANGLES = [-90.0, -45.0, 0.0, 10.0, 25.45836444744637 - 1e-6, 25.458364447446368,
+              25.45836444744637 + 1e-6, 27.096330350410646 - 1e-7, 27.096330350410646,
+              27.1, 29.99, 30.000001, 390.0, -330.0, 720.0]
+
+
+def expect_rows(test, result, rows, where, tie_points=False):
+    """The check result against verify's CSV rows, state by state. Closest
+    points are not unique where faces are parallel at the minimum, and verify
+    seeds a state's search with the previous state's pair: with tie_points,
+    points that differ from verify's must be as far apart as min_distance,
+    as verify's are. Returns how many states had such tied points."""
+    test.assertEqual(len(rows), len(result))
+    tied = 0
+    for s, row in enumerate(rows):
+        at = "%s state %d" % (where, s)
+        test.assertEqual(row["collision"], "1" if result.collision[s] else "0", at)
+        test.assertEqual(row["min_distance"], num(result.min_distance[s]), at)
+        a, b = result.part_a[s], result.part_b[s]
+        test.assertEqual(row["part_a"], result.part_names[a] if a >= 0 else "", at)
+        test.assertEqual(row["part_b"], result.part_names[b] if b >= 0 else "", at)
+        mine = [num(result.point_a[s, k]) if a >= 0 else "" for k in range(3)] + \
+               [num(result.point_b[s, k]) if a >= 0 else "" for k in range(3)]
+        theirs = [row[c] for c in ("ax", "ay", "az", "bx", "by", "bz")]
+        if mine == theirs:
+            continue
+        test.assertTrue(tie_points and a >= 0, "%s: points %s, verify %s" % (at, mine, theirs))
+        d = result.min_distance[s]
+        tol = 1e-9 * max(1.0, d)
+        test.assertAlmostEqual(np.linalg.norm(result.point_a[s] - result.point_b[s]), d, delta=tol, msg=at)
+        v = np.array(list(map(float, theirs)))
+        test.assertAlmostEqual(np.linalg.norm(v[:3] - v[3:]), d, delta=tol, msg=at)
+        tied += 1
+    return tied
+
+
+def read_rows(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+class ModuleTest(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = pathlib.Path(self.tmp.name)
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def test_version(self):
+        self.assertEqual(plancheck.__version__, os.environ["PLANCHECK_VERSION"])
+        out = subprocess.run([str(BINARY / "plancheck"), "--version"], capture_output=True, text=True, check=True)
+        self.assertEqual(out.stdout, "plancheck %s\n" % plancheck.__version__)
+
+    def check_bar(self, scale, unit):
+        scene_file = write_bar_scene(self.dir, scale, unit)
+        plans = []
+        for i, a in enumerate(BAR_ANGLES):  # one plan per state: report.json's verdict is the state's
+            plans.append(self.dir / ("s%03d.csv" % i))
+            plans[-1].write_text("J1\n%r\n" % a)
+        status, _ = verify(scene_file, plans, self.dir / "out")
+        self.assertEqual(status, 1)
+        report = json.loads((self.dir / "out" / "report.json").read_text())
+
+        scene = plancheck.Scene(scene_file, threads=2)  # a pathlib.Path or a str
+        self.assertEqual(scene.parameter_names, ["J1"])
+        self.assertEqual(scene.length_unit, unit)
+        states = np.array(BAR_ANGLES).reshape(-1, 1)
+        r = scene.check(states)
+        self.assertEqual(r.collision.dtype, np.bool_)
+        self.assertEqual(r.min_distance.dtype, np.float64)
+        self.assertEqual(r.verdict.dtype, np.uint8)
+        rows = [read_rows(self.dir / "out" / ("s%03d.csv" % i))[0] for i in range(len(BAR_ANGLES))]
+        expect_rows(self, r, rows, unit)
+        self.assertEqual([VERDICTS[int(v)] for v in r.verdict], [p["verdict"] for p in report["plans"]])
+        self.assertEqual(set(int(v) for v in r.verdict), {0, 1, 2, 3})
+        # verdict_only runs the full check for now (issue 16): the same verdicts.
+        np.testing.assert_array_equal(scene.check(states, verdict_only=True).verdict, r.verdict)
+        # One state per call gives the batch's answers.
+        for i in range(len(BAR_ANGLES)):
+            one = scene.check(states[i:i + 1])
+            self.assertEqual(one.min_distance[0], r.min_distance[i])
+            self.assertEqual(one.verdict[0], r.verdict[i])
+
+    def test_stiff_bar_equals_verify(self):
+        self.check_bar(1.0, "m")
+
+    def test_stiff_bar_in_millimetres_equals_verify(self):
+        self.check_bar(1000.0, "mm")
+
+    def test_bad_scene_raises_verifys_message(self):
+        scene_file = write_bar_scene(self.dir)
+        (self.dir / "plan.csv").write_text("J1\n0\n")
+        good = scene_file.read_text()
+        cases = {"missing.json": None, "bad-json.json": '{"format": ',
+                 "bad-margin.json": good.replace('"safety_margin": 0.05', '"safety_margin": -1'),
+                 "bad-model.json": good.replace("model.obj", "nothing.obj")}
+        for name, text in cases.items():
+            path = self.dir / name
+            if text is not None:
+                path.write_text(text)
+            status, err = verify(path, [self.dir / "plan.csv"], self.dir / "out")
+            self.assertEqual(status, 2, name)
+            with self.assertRaises(plancheck.Error) as caught:
+                plancheck.Scene(str(path))
+            self.assertEqual("plancheck: %s\n" % caught.exception, err, name)
+            self.assertIsInstance(caught.exception, ValueError)
+
+    def test_shape_errors_raise(self):
+        scene = plancheck.Scene(str(write_bar_scene(self.dir)), threads=1)
+        for bad in (np.zeros(3), np.zeros((2, 2)), np.zeros((1, 1, 1)), [["a"]]):
+            with self.assertRaises(plancheck.Error, msg=repr(bad)):
+                scene.check(bad)
+        with self.assertRaisesRegex(plancheck.Error, "state 1: parameter 'J1' is not a finite number"):
+            scene.check(np.array([[0.0], [np.nan]]))
+        self.assertEqual(len(scene.check(np.zeros((0, 1)))), 0)
+        # Lists and integer arrays are converted (plan units as written).
+        self.assertEqual(scene.check([[0], [10]]).verdict.tolist(), [0, 0])
+
+    def test_threads_agree_and_run_without_the_gil(self):
+        scene_file = str(write_bar_scene(self.dir))
+        states = np.linspace(-90, 40, 400).reshape(-1, 1)
+        one = plancheck.Scene(scene_file, threads=1).check(states)
+        scene = plancheck.Scene(scene_file, threads=2)
+        results = [None] * 4
+
+        def work(i):
+            results[i] = scene.check(states)
+        pool = [threading.Thread(target=work, args=(i,)) for i in range(4)]
+        for t in pool:
+            t.start()
+        for t in pool:
+            t.join()
+        for r in results:
+            np.testing.assert_array_equal(r.min_distance, one.min_distance)
+            np.testing.assert_array_equal(r.verdict, one.verdict)
+            np.testing.assert_array_equal(r.point_a, one.point_a)
+
+
+class DatasetTest(unittest.TestCase):
+    def test_default_plans_equal_verify(self):
+        """Every state of the default plans. verify digs along a plan; the
+        module checks on the initial terrain, so verify runs on the scene
+        without its scoop block (nothing dug), the module on the original."""
+        data = BINARY / "test-dataset"
+        self.assertTrue((data / "scene.json").exists(), "run DatasetFixture.Generate")
+        plans = sorted((data / "plans").glob("*.csv"))
+        with tempfile.TemporaryDirectory() as tmp:
+            spec = json.loads((data / "scene.json").read_text())
+            del spec["scoop"]
+            nodig = data / ("scene-nodig-py-%s.json" % pathlib.Path(tmp).name)
+            nodig.write_text(json.dumps(spec))
+            try:
+                status, err = verify(nodig, plans, pathlib.Path(tmp) / "out")
+            finally:
+                nodig.unlink()
+            self.assertLessEqual(status, 1, err)
+            report = json.loads((pathlib.Path(tmp) / "out" / "report.json").read_text())
+            scene = plancheck.Scene(str(data / "scene.json"))
+            total = 0
+            for plan_file, plan in zip(plans, report["plans"]):
+                with open(plan_file, newline="") as f:
+                    lines = [l for l in f if not l.startswith("#") and l.strip()]
+                header = lines[0].strip().split(",")
+                self.assertEqual(header, scene.parameter_names)
+                states = np.loadtxt(lines[1:], delimiter=",", ndmin=2)
+                r = scene.check(states)
+                expect_rows(self, r, read_rows(pathlib.Path(tmp) / "out" / (plan["name"] + ".csv")), plan["name"],
+                            tie_points=True)
+                bad = np.flatnonzero(r.verdict != 0)
+                fv = plan["first_violation"]
+                if len(bad):
+                    self.assertEqual(fv["state"], int(bad[0]), plan["name"])
+                    self.assertEqual(fv["kind"], VERDICTS[int(r.verdict[bad[0]])], plan["name"])
+                else:
+                    self.assertTrue(fv is None or fv["kind"] == "target", plan["name"])
+                total += len(states)
+            self.assertGreater(total, 2000)
+
+
+if __name__ == "__main__":
+    unittest.main()
