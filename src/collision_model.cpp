@@ -26,7 +26,10 @@
 #include "kernels/leaf_bounds.h"
 #include "kernels/tri_distance.h"
 #include "kernels/tri_tri_overlap.h"
+#include "kernels/obb.h"
+#include "kernels/pair_traversal.h"
 #include "src/bvh.h"
+#include "src/query_frame.h"
 
 #include <algorithm>
 #include <cmath>
@@ -52,29 +55,6 @@ std::size_t CollisionModel::memory_bytes() const {
 }
 
 namespace {
-
-// Relative size of the rounding margin: the box and vertex mappings err by a
-// few ulps of |L| |x| + |t|; 1e-12 covers that a thousand times over.
-constexpr double kMarginRel = 1e-12;
-// Orthonormality tolerance for "rigid" (distances preserved to ~1e-13).
-constexpr double kRigidTol = 1e-13;
-
-bool is_rigid(const Affine& t) {
-  const Mat3 l = t.linear();
-  return ((l.transpose() * l - Mat3::Identity()).cwiseAbs().maxCoeff() <= kRigidTol);
-}
-
-AffineMap to_map(const Affine& t) {
-  AffineMap m;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      m.l[3 * r + c] = t.linear()(r, c);
-      m.abs_l[3 * r + c] = std::abs(t.linear()(r, c));
-    }
-    m.t[r] = t.translation()(r);
-  }
-  return m;
-}
 
 // One side of a query: its data, its map into the working frame and the
 // margin that covers rounding of that map.
@@ -153,9 +133,11 @@ struct Setup {
   double obb_tol = 0.0;  // b's vertex-mapping rounding (m), added to every gap test
 
   // Relative placement of b's node box in a's node box frame (Gottschalk's
-  // R and T): r[3i+j] = a_i . b'_j, t_local[i] = a_i . (c_b' - c_a).
+  // R and T, kernels/obb.h), the centres' distance and the rounding
+  // tolerance of the gap tests.
   struct ObbPair {
-    double r[9], abs_r[9], t[3], dist_centres, tol;
+    ObbRelative rel;
+    double dist_centres, tol;
   };
   // b's node ib in the working frame: its centre, and its axes once asked
   // for. A traversal step that splits a tests both children against the same
@@ -194,17 +176,18 @@ struct Setup {
     const double* bw = mb.bw;
     const double* cb = mb.cb;
     const double d[3] = {cb[0] - oa.center[0], cb[1] - oa.center[1], cb[2] - oa.center[2]};
+    ObbRelative& q = p.rel;
     for (int i = 0; i < 3; ++i) {
       const double* ai = &oa.axis[3 * i];
-      p.t[i] = ai[0] * d[0] + ai[1] * d[1] + ai[2] * d[2];
+      q.t[i] = ai[0] * d[0] + ai[1] * d[1] + ai[2] * d[2];
       for (int j = 0; j < 3; ++j) {
         const double* bj = &bw[3 * j];
-        p.r[3 * i + j] = ai[0] * bj[0] + ai[1] * bj[1] + ai[2] * bj[2];
+        q.r[3 * i + j] = ai[0] * bj[0] + ai[1] * bj[1] + ai[2] * bj[2];
         // The epsilon keeps near-parallel edge-cross axes from false separation.
-        p.abs_r[3 * i + j] = std::abs(p.r[3 * i + j]) + 1e-12;
+        q.abs_r[3 * i + j] = std::abs(q.r[3 * i + j]) + 1e-12;
       }
     }
-    p.dist_centres = std::sqrt(p.t[0] * p.t[0] + p.t[1] * p.t[1] + p.t[2] * p.t[2]);
+    p.dist_centres = std::sqrt(q.t[0] * q.t[0] + q.t[1] * q.t[1] + q.t[2] * q.t[2]);
     const double ha = oa.half[0] + oa.half[1] + oa.half[2];
     const double hb = ob.half[0] + ob.half[1] + ob.half[2];
     p.tol = obb_tol + 1e-12 * (p.dist_centres + ha + hb +
@@ -213,68 +196,19 @@ struct Setup {
                                std::abs(cb[2]));
   }
 
-  // Separating-axis test over the 15 axes of two boxes (Gottschalk 1996;
-  // Ericson 4.4.1): true when proven disjoint.
+  // True when the node boxes are proven disjoint (kernels/obb.h).
   bool obb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
     ObbPair p;
     obb_pair(ia, ib, p);
-    const double* ha = a.data->obbs[ia].half;
-    const double* hb = b.data->obbs[ib].half;
-    const double* R = p.r;
-    const double* A = p.abs_r;
-    const double* T = p.t;
-    const double tol = p.tol;
-    for (int i = 0; i < 3; ++i) {
-      const double rb = hb[0] * A[3 * i] + hb[1] * A[3 * i + 1] + hb[2] * A[3 * i + 2];
-      if (std::abs(T[i]) > ha[i] + rb + tol) return true;
-    }
-    for (int j = 0; j < 3; ++j) {
-      const double ra = ha[0] * A[j] + ha[1] * A[3 + j] + ha[2] * A[6 + j];
-      const double tj = T[0] * R[j] + T[1] * R[3 + j] + T[2] * R[6 + j];
-      if (std::abs(tj) > ra + hb[j] + tol) return true;
-    }
-    for (int i = 0; i < 3; ++i) {
-      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-      for (int j = 0; j < 3; ++j) {
-        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-        // Axis a_i x b_j.
-        const double ra = ha[i1] * A[3 * i2 + j] + ha[i2] * A[3 * i1 + j];
-        const double rb = hb[j1] * A[3 * i + j2] + hb[j2] * A[3 * i + j1];
-        const double tl = T[i2] * R[3 * i1 + j] - T[i1] * R[3 * i2 + j];
-        if (std::abs(tl) > ra + rb + tol) return true;
-      }
-    }
-    return false;
+    return plancheck::obb_disjoint(p.rel, a.data->obbs[ia].half, b.data->obbs[ib].half, p.tol);
   }
 
-  // Distance lower bound from the boxes' face axes and the centre-to-centre
-  // axis (each separating-axis gap bounds the distance from below).
+  // Distance lower bound of the node boxes (kernels/obb.h).
   double obb_lower(std::uint32_t ia, MappedB& mb) const {
     ObbPair p;
     obb_pair(ia, mb, p);
-    const double* ha = a.data->obbs[ia].half;
-    const double* hb = b.data->obbs[mb.node].half;
-    const double* R = p.r;
-    const double* A = p.abs_r;
-    const double* T = p.t;
-    double gap = 0.0;
-    for (int i = 0; i < 3; ++i) {
-      const double rb = hb[0] * A[3 * i] + hb[1] * A[3 * i + 1] + hb[2] * A[3 * i + 2];
-      gap = std::max(gap, std::abs(T[i]) - ha[i] - rb);
-    }
-    double tb[3];
-    for (int j = 0; j < 3; ++j) {
-      const double ra = ha[0] * A[j] + ha[1] * A[3 + j] + ha[2] * A[6 + j];
-      tb[j] = T[0] * R[j] + T[1] * R[3 + j] + T[2] * R[6 + j];
-      gap = std::max(gap, std::abs(tb[j]) - ra - hb[j]);
-    }
-    if (p.dist_centres > 0.0) {
-      const double ra = ha[0] * std::abs(T[0]) + ha[1] * std::abs(T[1]) + ha[2] * std::abs(T[2]);
-      const double rb =
-          hb[0] * std::abs(tb[0]) + hb[1] * std::abs(tb[1]) + hb[2] * std::abs(tb[2]);
-      gap = std::max(gap, p.dist_centres - (ra + rb) / p.dist_centres);
-    }
-    return std::max(0.0, gap - p.tol);
+    return plancheck::obb_lower(p.rel, p.dist_centres, a.data->obbs[ia].half, b.data->obbs[mb.node].half,
+                                p.tol);
   }
 
   double obb_size(std::uint32_t ia, bool side_a) const {
@@ -301,9 +235,9 @@ Setup make_setup(const CollisionModel& ma, const Affine& ta, const CollisionMode
   const CollisionModelData* db = &mb.data();
   Affine frame = Affine::Identity();
   Affine first = ta, second = tb;
-  if (is_rigid(ta)) {
+  if (is_isometry(ta)) {
     frame = ta;
-  } else if (is_rigid(tb)) {
+  } else if (is_isometry(tb)) {
     s.swapped = true;
     std::swap(da, db);
     std::swap(first, second);
@@ -328,7 +262,7 @@ Setup make_setup(const CollisionModel& ma, const Affine& ta, const CollisionMode
       for (int c = 0; c < 3; ++c) mb.linear()(r, c) = s.b.map.l[3 * r + c];
       mb.translation()(r) = s.b.map.t[r];
     }
-    if (is_rigid(mb)) {
+    if (is_isometry(mb)) {
       s.reverse = true;
       const Affine inv = mb.inverse();
       s.rev = to_map(inv);
@@ -402,13 +336,6 @@ double leaf_axis_bounds(const double (*ta)[9], std::uint32_t na, const double (*
   return 1e-14 * big + 1e-300;
 }
 
-void triangle_box(const double* t, double* box) {
-  for (int k = 0; k < 3; ++k) {
-    box[k] = std::min({t[k], t[3 + k], t[6 + k]});
-    box[3 + k] = std::max({t[k], t[3 + k], t[6 + k]});
-  }
-}
-
 // n[0..2]: the triangle's unit normal (zero for a zero-area triangle, so
 // its gap is never positive); n[3], n[4]: the span of its own vertices on it.
 void triangle_normal_span(const double* t, double* n) {
@@ -463,85 +390,331 @@ struct FirstHit {
   std::uint32_t slot_a = 0, slot_b = 0;
 };
 
-// The collision traversal in a prepared working frame; stops after `limit`
-// pairs (>= 1).
-void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit) {
-  const auto& na = s.a.data->bvh.nodes;
-  const auto& nb = s.b.data->bvh.nodes;
-  std::vector<NodePair>& stack = t_stack;
-  stack.clear();
-  stack.push_back({0, 0, 0.0});
-  double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+// Collision in a prepared working frame, for overlap_descent
+// (kernels/pair_traversal.h); stops after `limit` pairs (>= 1).
+struct OverlapQuery {
+  using Pair = NodePair;
+  struct Cull {
+    double size_a, size_b;
+  };
+
+  const Setup& s;
+  std::size_t limit;
+  CollideResult& result;
+  FirstHit* hit;
+  const BvhNode* na = s.a.data->bvh.nodes.data();
+  const BvhNode* nb = s.b.data->bvh.nodes.data();
   const LeafKernels& kernels = leaf_kernels();
   const LeafSide side_a = s.a.leaf_side(), side_b = s.b.leaf_side();
-  while (!stack.empty()) {
-    const NodePair p = stack.back();
-    stack.pop_back();
-    ++result.node_pairs_visited;
-    double size_a, size_b;
+
+  void visited() { ++result.node_pairs_visited; }
+
+  bool disjoint(const Pair& p, Cull& c) const {
     if (s.obb) {
-      if (s.obb_disjoint(p.a, p.b)) continue;
-      size_a = s.obb_size(p.a, true);
-      size_b = s.obb_size(p.b, false);
-    } else {
-      double alo[3], ahi[3], blo[3], bhi[3];
-      s.a.box(p.a, alo, ahi);
-      s.b.box(p.b, blo, bhi);
-      if (!boxes_overlap(alo, ahi, blo, bhi)) continue;
-      if (s.reverse_lower2(p.a, p.b) > 0.0) continue;
-      size_a = box_size(alo, ahi);
-      size_b = box_size(blo, bhi);
+      if (s.obb_disjoint(p.a, p.b)) return true;
+      c.size_a = s.obb_size(p.a, true);
+      c.size_b = s.obb_size(p.b, false);
+      return false;
     }
+    double alo[3], ahi[3], blo[3], bhi[3];
+    s.a.box(p.a, alo, ahi);
+    s.b.box(p.b, blo, bhi);
+    if (!boxes_overlap(alo, ahi, blo, bhi)) return true;
+    if (s.reverse_lower2(p.a, p.b) > 0.0) return true;
+    c.size_a = box_size(alo, ahi);
+    c.size_b = box_size(blo, bhi);
+    return false;
+  }
+
+  bool leaf_pair(const Pair& p) const { return na[p.a].is_leaf() && nb[p.b].is_leaf(); }
+
+  bool leaves(const Pair& p) {
     const BvhNode& x = na[p.a];
     const BvhNode& y = nb[p.b];
-    if (x.is_leaf() && y.is_leaf()) {
-      // SIMD float prefilter on the stored float triangles
-      // (kernels/leaf_bounds.h): a pair it proves apart cannot touch, so only
-      // the rest reach the exact test, in the same order as without it, and
-      // a leaf pair with none left is never mapped in double.
-      LeafPairInput in;
-      make_leaf_pair(side_a, x.index, static_cast<int>(x.count), x.lo, x.hi, side_b, y.index,
-                     static_cast<int>(y.count), y.lo, y.hi, in);
-      std::uint32_t touch[kLeafLanes];
-      kernels.touch_masks(in, touch);
-      std::uint32_t any = 0;
-      for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
-      if (any == 0) continue;
-      for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
-      for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
-      // Exact per-triangle box prefilter: the boxes come from the very
-      // doubles the exact test sees, so disjoint boxes prove disjointness.
-      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
-      for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
-      for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
-      for (std::uint32_t i = 0; i < x.count; ++i)
-        for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
-          const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
-          if (!boxes_overlap(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3)) continue;
-          const double* p0 = tri_a[i];
-          const double* q0 = tri_b[j];
-          ++result.triangle_pairs_tested;
-          if (!tri_tri_overlap(p0, p0 + 3, p0 + 6, q0, q0 + 3, q0 + 6)) continue;
-          std::uint32_t ia = s.a.data->bvh.prim_ids[x.index + i];
-          std::uint32_t ib = s.b.data->bvh.prim_ids[y.index + j];
-          if (s.swapped) std::swap(ia, ib);
-          if (hit && !hit->found) *hit = FirstHit{true, x.index + i, y.index + j};
-          result.collide = true;
-          result.triangle_pairs.emplace_back(ia, ib);
-          if (result.triangle_pairs.size() >= limit) return;
-        }
-      continue;
-    }
-    const bool split_a = !x.is_leaf() && (y.is_leaf() || size_a >= size_b);
-    if (split_a) {
-      stack.push_back({x.index + 1, p.b, 0.0});
-      stack.push_back({x.index, p.b, 0.0});
-    } else {
-      stack.push_back({p.a, y.index + 1, 0.0});
-      stack.push_back({p.a, y.index, 0.0});
-    }
+    // SIMD float prefilter on the stored float triangles
+    // (kernels/leaf_bounds.h): a pair it proves apart cannot touch, so only
+    // the rest reach the exact test, in the same order as without it, and
+    // a leaf pair with none left is never mapped in double.
+    LeafPairInput in;
+    make_leaf_pair(side_a, x.index, static_cast<int>(x.count), x.lo, x.hi, side_b, y.index,
+                   static_cast<int>(y.count), y.lo, y.hi, in);
+    std::uint32_t touch[kLeafLanes];
+    kernels.touch_masks(in, touch);
+    std::uint32_t any = 0;
+    for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
+    if (any == 0) return true;
+    double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+    for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
+    for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
+    // Exact per-triangle box prefilter: the boxes come from the very
+    // doubles the exact test sees, so disjoint boxes prove disjointness.
+    double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
+    for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
+    for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
+    for (std::uint32_t i = 0; i < x.count; ++i)
+      for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
+        const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+        if (!boxes_overlap(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3)) continue;
+        const double* p0 = tri_a[i];
+        const double* q0 = tri_b[j];
+        ++result.triangle_pairs_tested;
+        if (!tri_tri_overlap(p0, p0 + 3, p0 + 6, q0, q0 + 3, q0 + 6)) continue;
+        std::uint32_t ia = s.a.data->bvh.prim_ids[x.index + i];
+        std::uint32_t ib = s.b.data->bvh.prim_ids[y.index + j];
+        if (s.swapped) std::swap(ia, ib);
+        if (hit && !hit->found) *hit = FirstHit{true, x.index + i, y.index + j};
+        result.collide = true;
+        result.triangle_pairs.emplace_back(ia, ib);
+        if (result.triangle_pairs.size() >= limit) return false;
+      }
+    return true;
   }
+
+  int split(const Pair& p, const Cull& c, Pair* kids) const {
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    if (!x.is_leaf() && (y.is_leaf() || c.size_a >= c.size_b)) {
+      kids[0] = {x.index, p.b, 0.0};
+      kids[1] = {x.index + 1, p.b, 0.0};
+    } else {
+      kids[0] = {p.a, y.index, 0.0};
+      kids[1] = {p.a, y.index + 1, 0.0};
+    }
+    return 2;
+  }
+};
+
+void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit) {
+  OverlapQuery q{s, limit, result, hit};
+  overlap_descent(q, t_stack, NodePair{0, 0, 0.0});
 }
+
+// Prune a node pair only when its lower bound clears the best distance by
+// more than the rounding of the squared box gaps.
+constexpr double kShrink = 1.0 - 1e-12;
+
+// Distance in a prepared working frame once no pair intersects, for
+// distance_descent (kernels/pair_traversal.h).
+struct DistanceQuery {
+  using Pair = NodePair;
+
+  const Setup& s;
+  DistanceResult& result;
+  const BvhNode* na = s.a.data->bvh.nodes.data();
+  const BvhNode* nb = s.b.data->bvh.nodes.data();
+  double best;
+  // Pruning threshold: best / (1 + rel_tolerance) (best itself when exact).
+  double shrink_rel;
+  double tie;
+  double cut = std::max(0.0, best * shrink_rel - tie);
+  double best2_ = cut * cut;
+  bool found = false;
+  std::uint32_t best_sa = 0, best_sb = 0;
+  Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
+  const LeafKernels& kernels = leaf_kernels();
+  const LeafSide side_a = s.a.leaf_side(), side_b = s.b.leaf_side();
+  const double kernel_slack = 1e-13 * std::max(side_a.size, side_b.size) + 1e-300;
+
+  double best2() const { return best2_; }
+  void visited() { ++result.node_pairs_visited; }
+  bool leaf_pair(const Pair& p) const { return na[p.a].is_leaf() && nb[p.b].is_leaf(); }
+
+  // A closer pair (slots in the working frame, points there too).
+  void improve(double dist, std::uint32_t sa, std::uint32_t sb, const Vec3& pa, const Vec3& pb) {
+    found = true;
+    best = dist;
+    cut = std::max(0.0, best * shrink_rel - tie);
+    best2_ = cut * cut;
+    best_sa = sa;
+    best_sb = sb;
+    best_pa = pa;
+    best_pb = pb;
+  }
+
+  // Squared lower bound of node pair (ia, ib); sizes (when asked) get the
+  // two nodes' sizes; mb: b's node ib already mapped (Setup::map_b), or nullptr.
+  double lower2(std::uint32_t ia, std::uint32_t ib, double* sizes, Setup::MappedB* mb = nullptr) const {
+    if (s.obb) {
+      if (sizes) {
+        sizes[0] = s.obb_size(ia, true);
+        sizes[1] = s.obb_size(ib, false);
+      }
+      Setup::MappedB own;
+      if (!mb) {
+        s.map_b(ib, own);
+        mb = &own;
+      }
+      // Balls around the boxes first (centre distance minus circumradii):
+      // a tenth of the work of the box bound, and enough to prune most
+      // children far beyond the best distance.
+      const NodeObb& oa = s.a.data->obbs[ia];
+      const double* cb = mb->cb;
+      const double dx = cb[0] - oa.center[0], dy = cb[1] - oa.center[1], dz = cb[2] - oa.center[2];
+      const double ra = oa.radius;
+      const double rb = s.b.data->obbs[ib].radius;
+      const double centres = std::sqrt(dx * dx + dy * dy + dz * dz);
+      // Rounding: b's centre mapping (obb_tol) and a few ulps of every term.
+      const double tol = s.obb_tol + 1e-12 * (centres + ra + rb + std::abs(cb[0]) + std::abs(cb[1]) +
+                                              std::abs(cb[2]) + std::abs(oa.center[0]) +
+                                              std::abs(oa.center[1]) + std::abs(oa.center[2]));
+      const double ball = centres - ra - rb - tol;
+      if (ball > 0.0 && ball * ball * kShrink >= best2_) return ball * ball * kShrink;
+      const double lb = s.obb_lower(ia, *mb);
+      return lb * lb * kShrink;
+    }
+    double alo[3], ahi[3], blo[3], bhi[3];
+    s.a.box(ia, alo, ahi);
+    s.b.box(ib, blo, bhi);
+    if (sizes) {
+      sizes[0] = box_size(alo, ahi);
+      sizes[1] = box_size(blo, bhi);
+    }
+    const double forward = box_distance_squared(alo, ahi, blo, bhi);
+    return std::max(forward, s.reverse_lower2(ia, ib)) * kShrink;
+  }
+
+  // (best + kernel_slack)^2 rounded up to float: a float bound at or above
+  // it proves the pair cannot improve on best.
+  float float_cut2() const {
+    const double c = best + kernel_slack;
+    return round_up(c * c * (1.0 + 1e-15));
+  }
+
+  bool leaves(const Pair& p) {
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    // SIMD float lower bounds first, on the stored float triangles
+    // (kernels/leaf_bounds.h). A pair is skipped only when its bound
+    // reaches best + kernel_slack: the double kernel's value for it would
+    // then be >= best (its closest points lie within a few ulps of `size`
+    // of the triangles, far less than kernel_slack), so it could not have
+    // changed the answer. The double bounds below still settle every
+    // remaining pair as before, so the result is the same as without this
+    // filter, at every width; a leaf pair with no pair left is never
+    // mapped in double.
+    LeafPairInput in;
+    make_leaf_pair(side_a, x.index, static_cast<int>(x.count), x.lo, x.hi, side_b, y.index,
+                   static_cast<int>(y.count), y.lo, y.hi, in);
+    float cut2_f = float_cut2();
+    LeafPairBounds lb;
+    kernels.lower_bounds(in, cut2_f, lb);
+    std::uint32_t any = 0;
+    for (std::uint32_t i = 0; i < x.count; ++i) any |= lb.candidates[i];
+    if (any == 0) return true;
+    double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+    // The double path, computed as far as the pairs need it: most pairs
+    // left here sit within the float rounding of the best distance (ties,
+    // as parallel faces), and their own triangle boxes settle them, so a
+    // triangle is mapped only when a pair needs it and the leaf-wide axis
+    // only when a box does not settle a pair. The tests are independent
+    // skip conditions, so their order does not change which pairs reach
+    // the kernel.
+    bool mapped_a[kMaxLeafSize] = {}, mapped_b[kMaxLeafSize] = {};
+    double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
+    // Separating-axis lower bound with the actual vertices, on the axis
+    // through the two leaves' vertex centroids: near the closest pair that
+    // axis is almost the optimal one, and unlike boxes the vertices carry
+    // no slack beyond the patches' own curvature.
+    double hi_a[kMaxLeafSize], lo_b[kMaxLeafSize];
+    double slack = 0.0, normal_slack = 0.0;
+    bool whole = false;
+    auto need_a = [&](std::uint32_t i) {
+      if (mapped_a[i]) return;
+      s.a.triangle(x.index + i, tri_a[i]);
+      triangle_box(tri_a[i], box_a[i]);
+      mapped_a[i] = true;
+    };
+    auto need_b = [&](std::uint32_t j) {
+      if (mapped_b[j]) return;
+      s.b.triangle(y.index + j, tri_b[j]);
+      triangle_box(tri_b[j], box_b[j]);
+      mapped_b[j] = true;
+    };
+    auto need_whole = [&] {
+      if (whole) return;
+      for (std::uint32_t i = 0; i < x.count; ++i) need_a(i);
+      for (std::uint32_t j = 0; j < y.count; ++j) need_b(j);
+      slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
+      double big = 0.0;
+      for (std::uint32_t i = 0; i < x.count; ++i)
+        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
+      for (std::uint32_t j = 0; j < y.count; ++j)
+        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
+      // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
+      // a gap is a difference of two: 1e-14 big is ample.
+      normal_slack = 1e-14 * big + 1e-300;
+      whole = true;
+    };
+    // Each triangle's own unit normal as a separating axis for the pairs
+    // it is in: facing patches (an arm's flat underside over a deck) are
+    // told apart by a few dot products instead of the 15-feature kernel.
+    // Computed on first use: most pairs fall to the cheaper bounds first.
+    double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
+    bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
+    for (std::uint32_t i = 0; i < x.count; ++i)
+      for (std::uint32_t m = lb.candidates[i]; m != 0; m &= m - 1) {
+        const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+        if (lb.lower2[i][j] >= cut2_f) continue;
+        need_a(i);
+        need_b(j);
+        // Triangle boxes: a cheap lower bound (axis-aligned gaps).
+        if (box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= best2_)
+          continue;
+        need_whole();
+        if (lo_b[j] - hi_a[i] - slack >= cut) continue;
+        if (!have_a[i]) {
+          triangle_normal_span(tri_a[i], norm_a[i]);
+          have_a[i] = true;
+        }
+        if (!have_b[j]) {
+          triangle_normal_span(tri_b[j], norm_b[j]);
+          have_b[j] = true;
+        }
+        if (normal_gap(norm_a[i], tri_b[j]) - normal_slack >= cut ||
+            normal_gap(norm_b[j], tri_a[i]) - normal_slack >= cut)
+          continue;
+        ++result.triangle_pairs_tested;
+        // The collision pass found no intersecting pair, so these triangles
+        // are disjoint: the feature pairs alone give the exact tri_distance
+        // answer, without its overlap test.
+        Vec3 pp, qq;
+        const double d2 = tri_distance_disjoint2(tri_a[i], tri_b[j], pp, qq);
+        const double dist = std::sqrt(d2);
+        if (!(dist < best)) continue;
+        improve(dist, x.index + i, y.index + j, pp, qq);
+        cut2_f = float_cut2();
+        if (best == 0.0) return false;  // nothing is closer
+      }
+    return true;
+  }
+
+  int split(const Pair& p, Pair* kids) const {
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    double sizes[2];
+    if (s.obb) {
+      sizes[0] = s.obb_size(p.a, true);
+      sizes[1] = s.obb_size(p.b, false);
+    } else {
+      lower2(p.a, p.b, sizes);
+    }
+    if (!x.is_leaf() && (y.is_leaf() || sizes[0] >= sizes[1])) {
+      // Both children meet the same b node: map it once.
+      Setup::MappedB mb;
+      Setup::MappedB* shared = nullptr;
+      if (s.obb) {
+        s.map_b(p.b, mb);
+        shared = &mb;
+      }
+      kids[0] = {x.index, p.b, lower2(x.index, p.b, nullptr, shared)};
+      kids[1] = {x.index + 1, p.b, lower2(x.index + 1, p.b, nullptr, shared)};
+    } else {
+      kids[0] = {p.a, y.index, lower2(p.a, y.index, nullptr)};
+      kids[1] = {p.a, y.index + 1, lower2(p.a, y.index + 1, nullptr)};
+    }
+    return 2;
+  }
+};
 
 }  // namespace
 
@@ -591,63 +764,9 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       return;
     }
   }
-  const auto& na = s.a.data->bvh.nodes;
-  const auto& nb = s.b.data->bvh.nodes;
-  double best = request.upper_bound;
-  // Pruning threshold: best / (1 + rel_tolerance) (best itself when exact).
-  const double shrink_rel = 1.0 / (1.0 + std::max(0.0, request.rel_tolerance));
-  const double tie = std::max(0.0, request.abs_tolerance);
-  double cut = std::max(0.0, best * shrink_rel - tie);
-  double best2 = cut * cut;
-  // Prune a node pair only when its lower bound clears the best distance by
-  // more than the rounding of the squared box gaps.
-  constexpr double kShrink = 1.0 - 1e-12;
-  // mb: b's node ib already mapped (Setup::map_b), or nullptr.
-  auto lower2 = [&](std::uint32_t ia, std::uint32_t ib, double* sizes, Setup::MappedB* mb = nullptr) {
-    if (s.obb) {
-      if (sizes) {
-        sizes[0] = s.obb_size(ia, true);
-        sizes[1] = s.obb_size(ib, false);
-      }
-      Setup::MappedB own;
-      if (!mb) {
-        s.map_b(ib, own);
-        mb = &own;
-      }
-      // Balls around the boxes first (centre distance minus circumradii):
-      // a tenth of the work of the box bound, and enough to prune most
-      // children far beyond the best distance.
-      const NodeObb& oa = s.a.data->obbs[ia];
-      const double* cb = mb->cb;
-      const double dx = cb[0] - oa.center[0], dy = cb[1] - oa.center[1], dz = cb[2] - oa.center[2];
-      const double ra = oa.radius;
-      const double rb = s.b.data->obbs[ib].radius;
-      const double centres = std::sqrt(dx * dx + dy * dy + dz * dz);
-      // Rounding: b's centre mapping (obb_tol) and a few ulps of every term.
-      const double tol = s.obb_tol + 1e-12 * (centres + ra + rb + std::abs(cb[0]) + std::abs(cb[1]) +
-                                              std::abs(cb[2]) + std::abs(oa.center[0]) +
-                                              std::abs(oa.center[1]) + std::abs(oa.center[2]));
-      const double ball = centres - ra - rb - tol;
-      if (ball > 0.0 && ball * ball * kShrink >= best2) return ball * ball * kShrink;
-      const double lb = s.obb_lower(ia, *mb);
-      return lb * lb * kShrink;
-    }
-    double alo[3], ahi[3], blo[3], bhi[3];
-    s.a.box(ia, alo, ahi);
-    s.b.box(ib, blo, bhi);
-    if (sizes) {
-      sizes[0] = box_size(alo, ahi);
-      sizes[1] = box_size(blo, bhi);
-    }
-    const double forward = box_distance_squared(alo, ahi, blo, bhi);
-    return std::max(forward, s.reverse_lower2(ia, ib)) * kShrink;
-  };
-  std::vector<NodePair>& stack = t_stack;
-  stack.clear();
-  stack.push_back({0, 0, lower2(0, 0, nullptr)});
-  bool found = false;
-  std::uint32_t best_sa = 0, best_sb = 0;
-  Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
+  DistanceQuery q{s, result, s.a.data->bvh.nodes.data(), s.b.data->bvh.nodes.data(), request.upper_bound,
+                  1.0 / (1.0 + std::max(0.0, request.rel_tolerance)), std::max(0.0, request.abs_tolerance)};
+  const NodePair root{0, 0, q.lower2(0, 0, nullptr)};
   if (request.seed_slot_a >= 0 && request.seed_slot_b >= 0) {
     std::uint32_t sa = static_cast<std::uint32_t>(request.seed_slot_a);
     std::uint32_t sb = static_cast<std::uint32_t>(request.seed_slot_b);
@@ -655,194 +774,21 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
     if (sa < s.a.data->triangle_count() && sb < s.b.data->triangle_count()) {
       // Exactly what the traversal computes for this pair (same frame, same
       // kernel), so the minimum found is unchanged; only the bound is earlier.
-      double p[9], q[9];
+      double p[9], t[9];
       s.a.triangle(sa, p);
-      s.b.triangle(sb, q);
+      s.b.triangle(sb, t);
       Vec3 pp, qq;
-      const double dist = std::sqrt(tri_distance_disjoint2(p, q, pp, qq));
-      if (dist < best) {
-        found = true;
-        best = dist;
-        cut = std::max(0.0, best * shrink_rel - tie);
-        best2 = cut * cut;
-        best_sa = sa;
-        best_sb = sb;
-        best_pa = pp;
-        best_pb = qq;
-      }
+      const double dist = std::sqrt(tri_distance_disjoint2(p, t, pp, qq));
+      if (dist < q.best) q.improve(dist, sa, sb, pp, qq);
     }
   }
-  double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
-  const LeafKernels& kernels = leaf_kernels();
-  const LeafSide side_a = s.a.leaf_side(), side_b = s.b.leaf_side();
-  const double kernel_slack = 1e-13 * std::max(side_a.size, side_b.size) + 1e-300;
-  // (best + kernel_slack)^2 rounded up to float: a float bound at or above
-  // it proves the pair cannot improve on best.
-  auto float_cut2 = [&] {
-    const double c = best + kernel_slack;
-    return round_up(c * c * (1.0 + 1e-15));
-  };
-  while (!stack.empty()) {
-    const NodePair p = stack.back();
-    stack.pop_back();
-    if (!(p.lower2 < best2)) continue;
-    ++result.node_pairs_visited;
-    const BvhNode& x = na[p.a];
-    const BvhNode& y = nb[p.b];
-    if (x.is_leaf() && y.is_leaf()) {
-      // SIMD float lower bounds first, on the stored float triangles
-      // (kernels/leaf_bounds.h). A pair is skipped only when its bound
-      // reaches best + kernel_slack: the double kernel's value for it would
-      // then be >= best (its closest points lie within a few ulps of `size`
-      // of the triangles, far less than kernel_slack), so it could not have
-      // changed the answer. The double bounds below still settle every
-      // remaining pair as before, so the result is the same as without this
-      // filter, at every width; a leaf pair with no pair left is never
-      // mapped in double.
-      LeafPairInput in;
-      make_leaf_pair(side_a, x.index, static_cast<int>(x.count), x.lo, x.hi, side_b, y.index,
-                     static_cast<int>(y.count), y.lo, y.hi, in);
-      float cut2_f = float_cut2();
-      LeafPairBounds lb;
-      kernels.lower_bounds(in, cut2_f, lb);
-      std::uint32_t any = 0;
-      for (std::uint32_t i = 0; i < x.count; ++i) any |= lb.candidates[i];
-      if (any == 0) continue;
-      // The double path, computed as far as the pairs need it: most pairs
-      // left here sit within the float rounding of the best distance (ties,
-      // as parallel faces), and their own triangle boxes settle them, so a
-      // triangle is mapped only when a pair needs it and the leaf-wide axis
-      // only when a box does not settle a pair. The tests are independent
-      // skip conditions, so their order does not change which pairs reach
-      // the kernel.
-      bool mapped_a[kMaxLeafSize] = {}, mapped_b[kMaxLeafSize] = {};
-      double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
-      // Separating-axis lower bound with the actual vertices, on the axis
-      // through the two leaves' vertex centroids: near the closest pair that
-      // axis is almost the optimal one, and unlike boxes the vertices carry
-      // no slack beyond the patches' own curvature.
-      double hi_a[kMaxLeafSize], lo_b[kMaxLeafSize];
-      double slack = 0.0, normal_slack = 0.0;
-      bool whole = false;
-      auto need_a = [&](std::uint32_t i) {
-        if (mapped_a[i]) return;
-        s.a.triangle(x.index + i, tri_a[i]);
-        triangle_box(tri_a[i], box_a[i]);
-        mapped_a[i] = true;
-      };
-      auto need_b = [&](std::uint32_t j) {
-        if (mapped_b[j]) return;
-        s.b.triangle(y.index + j, tri_b[j]);
-        triangle_box(tri_b[j], box_b[j]);
-        mapped_b[j] = true;
-      };
-      auto need_whole = [&] {
-        if (whole) return;
-        for (std::uint32_t i = 0; i < x.count; ++i) need_a(i);
-        for (std::uint32_t j = 0; j < y.count; ++j) need_b(j);
-        slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
-        double big = 0.0;
-        for (std::uint32_t i = 0; i < x.count; ++i)
-          for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
-        for (std::uint32_t j = 0; j < y.count; ++j)
-          for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
-        // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
-        // a gap is a difference of two: 1e-14 big is ample.
-        normal_slack = 1e-14 * big + 1e-300;
-        whole = true;
-      };
-      // Each triangle's own unit normal as a separating axis for the pairs
-      // it is in: facing patches (an arm's flat underside over a deck) are
-      // told apart by a few dot products instead of the 15-feature kernel.
-      // Computed on first use: most pairs fall to the cheaper bounds first.
-      double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
-      bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
-      bool done = false;
-      for (std::uint32_t i = 0; i < x.count && !done; ++i)
-        for (std::uint32_t m = lb.candidates[i]; m != 0; m &= m - 1) {
-          const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
-          if (lb.lower2[i][j] >= cut2_f) continue;
-          need_a(i);
-          need_b(j);
-          // Triangle boxes: a cheap lower bound (axis-aligned gaps).
-          if (box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= best2)
-            continue;
-          need_whole();
-          if (lo_b[j] - hi_a[i] - slack >= cut) continue;
-          if (!have_a[i]) {
-            triangle_normal_span(tri_a[i], norm_a[i]);
-            have_a[i] = true;
-          }
-          if (!have_b[j]) {
-            triangle_normal_span(tri_b[j], norm_b[j]);
-            have_b[j] = true;
-          }
-          if (normal_gap(norm_a[i], tri_b[j]) - normal_slack >= cut ||
-              normal_gap(norm_b[j], tri_a[i]) - normal_slack >= cut)
-            continue;
-          ++result.triangle_pairs_tested;
-          // The collision pass above found no intersecting pair, so these
-          // triangles are disjoint: the feature pairs alone give the exact
-          // tri_distance answer, without its overlap test.
-          Vec3 pp, qq;
-          const double d2 = tri_distance_disjoint2(tri_a[i], tri_b[j], pp, qq);
-          const double dist = std::sqrt(d2);
-          if (!(dist < best)) continue;
-          const struct {
-            double distance;
-            Vec3 point_p, point_q;
-          } d{dist, pp, qq};
-          found = true;
-          best = d.distance;
-          cut = std::max(0.0, best * shrink_rel - tie);
-          best2 = cut * cut;
-          best_sa = x.index + i;
-          best_sb = y.index + j;
-          best_pa = d.point_p;
-          best_pb = d.point_q;
-          cut2_f = float_cut2();
-          if (best == 0.0) {
-            stack.clear();
-            done = true;
-            break;
-          }
-        }
-      continue;
-    }
-    double sizes[2];
-    if (s.obb) {
-      sizes[0] = s.obb_size(p.a, true);
-      sizes[1] = s.obb_size(p.b, false);
-    } else {
-      lower2(p.a, p.b, sizes);
-    }
-    const bool split_a = !x.is_leaf() && (y.is_leaf() || sizes[0] >= sizes[1]);
-    NodePair c0, c1;
-    if (split_a) {
-      // Both children meet the same b node: map it once.
-      Setup::MappedB mb;
-      Setup::MappedB* shared = nullptr;
-      if (s.obb) {
-        s.map_b(p.b, mb);
-        shared = &mb;
-      }
-      c0 = {x.index, p.b, lower2(x.index, p.b, nullptr, shared)};
-      c1 = {x.index + 1, p.b, lower2(x.index + 1, p.b, nullptr, shared)};
-    } else {
-      c0 = {p.a, y.index, lower2(p.a, y.index, nullptr)};
-      c1 = {p.a, y.index + 1, lower2(p.a, y.index + 1, nullptr)};
-    }
-    // Closer pair on top of the stack: visited first, it tightens the bound.
-    if (c0.lower2 < c1.lower2) std::swap(c0, c1);
-    if (c0.lower2 < best2) stack.push_back(c0);
-    if (c1.lower2 < best2) stack.push_back(c1);
-  }
-  if (!found) return;
+  distance_descent(q, t_stack, root);
+  if (!q.found) return;
   result.found = true;
-  result.distance = best;
-  Vec3 pa = s.to_world * best_pa, pb = s.to_world * best_pb;
-  std::uint32_t ia = s.a.data->bvh.prim_ids[best_sa];
-  std::uint32_t ib = s.b.data->bvh.prim_ids[best_sb];
+  result.distance = q.best;
+  Vec3 pa = s.to_world * q.best_pa, pb = s.to_world * q.best_pb;
+  std::uint32_t ia = s.a.data->bvh.prim_ids[q.best_sa];
+  std::uint32_t ib = s.b.data->bvh.prim_ids[q.best_sb];
   if (s.swapped) {
     std::swap(ia, ib);
     std::swap(pa, pb);
@@ -851,8 +797,8 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   result.point_b = pb;
   result.triangle_a = ia;
   result.triangle_b = ib;
-  result.slot_a = s.swapped ? best_sb : best_sa;
-  result.slot_b = s.swapped ? best_sa : best_sb;
+  result.slot_a = s.swapped ? q.best_sb : q.best_sa;
+  result.slot_b = s.swapped ? q.best_sa : q.best_sb;
 }
 
 }  // namespace plancheck

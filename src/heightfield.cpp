@@ -8,9 +8,12 @@
 #include "src/heightfield.h"
 
 #include "kernels/box.h"
+#include "kernels/obb.h"
+#include "kernels/pair_traversal.h"
 #include "kernels/tri_distance.h"
 #include "kernels/tri_tri_overlap.h"
 #include "src/bvh.h"
+#include "src/query_frame.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,14 +24,6 @@ namespace plancheck {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// Insertion sort of at most four children, farthest first (so the nearest is
-// pushed last); std::sort on a 4-element array trips GCC 12's -Warray-bounds.
-template <class T, class Key>
-void farthest_first(T* items, int n, Key key) {
-  for (int i = 1; i < n; ++i)
-    for (int j = i; j > 0 && key(items[j - 1]) < key(items[j]); --j) std::swap(items[j - 1], items[j]);
-}
 
 }  // namespace
 
@@ -280,34 +275,8 @@ bool Heightfield::intersect_ray(const double* o, const double* d, double t_near,
 
 namespace {
 
-constexpr double kMarginRel = 1e-12;  // as collision_model.cpp: rounding of maps and boxes
-constexpr double kRigidTol = 1e-13;
 constexpr int kLeafTris = 2 * Heightfield::kLeafCells * Heightfield::kLeafCells;
 constexpr int kLeafSamples = (Heightfield::kLeafCells + 1) * (Heightfield::kLeafCells + 1);
-
-bool is_rigid(const Affine& t) {
-  const Mat3 l = t.linear();
-  return ((l.transpose() * l - Mat3::Identity()).cwiseAbs().maxCoeff() <= kRigidTol);
-}
-
-AffineMap to_map(const Affine& t) {
-  AffineMap m;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) {
-      m.l[3 * r + c] = t.linear()(r, c);
-      m.abs_l[3 * r + c] = std::abs(t.linear()(r, c));
-    }
-    m.t[r] = t.translation()(r);
-  }
-  return m;
-}
-
-void triangle_box(const double* t, double* box) {
-  for (int k = 0; k < 3; ++k) {
-    box[k] = std::min({t[k], t[3 + k], t[6 + k]});
-    box[3 + k] = std::max({t[k], t[3 + k], t[6 + k]});
-  }
-}
 
 struct HfQuery {
   const CollisionModelData* part = nullptr;
@@ -330,7 +299,7 @@ struct HfQuery {
     part = &a.data();
     hf = &t;
     pose = to_map(ta);
-    rigid = is_rigid(ta);
+    rigid = is_isometry(ta);
     use_obb = rigid && part->obbs.size() == part->bvh.nodes.size();
     if (rigid) {
       to_world = ta;
@@ -355,12 +324,7 @@ struct HfQuery {
     map_box(pose, n.lo, n.hi, cull_margin, lo, hi);
   }
 
-  // Posed oriented box of a part node (rigid ta only).
-  struct PosedObb {
-    double axis[9];  // rows: axes in the reference frame
-    double center[3];
-    const double* half;
-  };
+  // Posed oriented box of a part node (rigid ta only), in the reference frame.
   void posed_obb(std::uint32_t node, PosedObb& o) const {
     const NodeObb& b = part->obbs[node];
     for (int j = 0; j < 3; ++j)
@@ -371,66 +335,12 @@ struct HfQuery {
     o.half = b.half;
   }
 
+  // Rounding tolerance of the oriented-box tests (kernels/obb.h) of o against a block box.
   double tolerance(const PosedObb& o, const double* blo, const double* bhi) const {
     double s = o.half[0] + o.half[1] + o.half[2] + std::abs(o.center[0]) + std::abs(o.center[1]) +
                std::abs(o.center[2]);
     for (int k = 0; k < 3; ++k) s += std::abs(blo[k]) + std::abs(bhi[k]);
     return 1e-12 * s + cull_margin[0] + cull_margin[1] + cull_margin[2];
-  }
-
-  // Separating-axis test of a posed OBB and an axis-aligned box (Gottschalk
-  // 1996 with one box's axes the coordinate axes): true when proven disjoint.
-  bool obb_box_disjoint(const PosedObb& o, const double* blo, const double* bhi) const {
-    double e[3], T[3], R[9], A[9];
-    for (int k = 0; k < 3; ++k) {
-      e[k] = 0.5 * (bhi[k] - blo[k]);
-      T[k] = o.center[k] - 0.5 * (blo[k] + bhi[k]);
-    }
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        R[3 * i + j] = o.axis[3 * j + i];
-        A[3 * i + j] = std::abs(R[3 * i + j]) + 1e-12;
-      }
-    const double tol = tolerance(o, blo, bhi);
-    const double* h = o.half;
-    for (int i = 0; i < 3; ++i)
-      if (std::abs(T[i]) > e[i] + h[0] * A[3 * i] + h[1] * A[3 * i + 1] + h[2] * A[3 * i + 2] + tol) return true;
-    for (int j = 0; j < 3; ++j) {
-      const double tj = T[0] * R[j] + T[1] * R[3 + j] + T[2] * R[6 + j];
-      if (std::abs(tj) > e[0] * A[j] + e[1] * A[3 + j] + e[2] * A[6 + j] + h[j] + tol) return true;
-    }
-    for (int i = 0; i < 3; ++i) {
-      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
-      for (int j = 0; j < 3; ++j) {
-        const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-        const double ra = e[i1] * A[3 * i2 + j] + e[i2] * A[3 * i1 + j];
-        const double rb = h[j1] * A[3 * i + j2] + h[j2] * A[3 * i + j1];
-        const double tl = T[i2] * R[3 * i1 + j] - T[i1] * R[3 * i2 + j];
-        if (std::abs(tl) > ra + rb + tol) return true;
-      }
-    }
-    return false;
-  }
-
-  // Distance lower bound of a posed OBB and a box: the OBB's enclosing box
-  // against the box (Euclidean), and the gaps on the OBB's own face axes.
-  double obb_box_lower(const PosedObb& o, const double* blo, const double* bhi) const {
-    double olo[3], ohi[3], e[3], T[3];
-    for (int k = 0; k < 3; ++k) {
-      const double r = o.half[0] * std::abs(o.axis[k]) + o.half[1] * std::abs(o.axis[3 + k]) +
-                       o.half[2] * std::abs(o.axis[6 + k]);
-      olo[k] = o.center[k] - r, ohi[k] = o.center[k] + r;
-      e[k] = 0.5 * (bhi[k] - blo[k]);
-      T[k] = o.center[k] - 0.5 * (blo[k] + bhi[k]);
-    }
-    double gap = std::sqrt(box_distance_squared(olo, ohi, blo, bhi));
-    for (int j = 0; j < 3; ++j) {
-      const double* a = &o.axis[3 * j];
-      const double tj = T[0] * a[0] + T[1] * a[1] + T[2] * a[2];
-      const double rb = e[0] * std::abs(a[0]) + e[1] * std::abs(a[1]) + e[2] * std::abs(a[2]);
-      gap = std::max(gap, std::abs(tj) - o.half[j] - rb);
-    }
-    return std::max(0.0, gap - tolerance(o, blo, bhi));
   }
 
   // Working-frame triangles of a part leaf.
@@ -505,6 +415,7 @@ struct HfQuery {
   }
 };
 
+// A part node and a pyramid block.
 struct Pair {
   std::uint32_t node;
   int level, bx, by;
@@ -533,67 +444,195 @@ int block_children(const Heightfield& hf, int level, int bx, int by, int (*kids)
   return n;
 }
 
+// A pair whose part node is split when it is the larger (or the block is a leaf).
+bool split_part(const BvhNode& x, int level, double part_size, const double* blo, const double* bhi) {
+  return !x.is_leaf() && (level == 0 || part_size >= half_sum(blo, bhi));
+}
+
 struct Hit {
   bool found = false;
   std::uint32_t slot = 0, tri = 0;
 };
 
-// Node-pair cull for collision: true when proven disjoint.
-bool disjoint(const HfQuery& q, std::uint32_t node, const double* blo, const double* bhi, double& part_size) {
-  if (q.use_obb) {
-    HfQuery::PosedObb o;
-    q.posed_obb(node, o);
-    part_size = o.half[0] + o.half[1] + o.half[2];
-    return q.obb_box_disjoint(o, blo, bhi);
+// Collision against the terrain, for overlap_descent (kernels/pair_traversal.h);
+// stops after `limit` pairs (>= 1).
+struct HfOverlap {
+  using Pair = plancheck::Pair;
+  struct Cull {
+    double blo[3], bhi[3], part_size;
+  };
+
+  const HfQuery& q;
+  std::size_t limit;
+  CollideResult& result;
+  Hit* hit;
+
+  void visited() { ++result.node_pairs_visited; }
+
+  bool disjoint(const Pair& p, Cull& c) const {
+    if (!q.block(p.level, p.bx, p.by, c.blo, c.bhi)) return true;
+    if (q.use_obb) {
+      PosedObb o;
+      q.posed_obb(p.node, o);
+      c.part_size = o.half[0] + o.half[1] + o.half[2];
+      return obb_box_disjoint(o, c.blo, c.bhi, q.tolerance(o, c.blo, c.bhi));
+    }
+    double plo[3], phi[3];
+    q.part_box(p.node, plo, phi);
+    c.part_size = half_sum(plo, phi);
+    return !boxes_overlap(plo, phi, c.blo, c.bhi);
   }
-  double plo[3], phi[3];
-  q.part_box(node, plo, phi);
-  part_size = half_sum(plo, phi);
-  return !boxes_overlap(plo, phi, blo, bhi);
-}
+
+  bool leaf_pair(const Pair& p) const { return q.part->bvh.nodes[p.node].is_leaf() && p.level == 0; }
+
+  bool leaves(const Pair& p) {
+    const BvhNode& x = q.part->bvh.nodes[p.node];
+    double tri_p[kMaxLeafSize][9], tri_t[kLeafTris][9], box_p[kMaxLeafSize][6], box_t[kLeafTris][6];
+    std::uint32_t ids[kLeafTris];
+    q.part_triangles(x, tri_p);
+    const int nt = q.terrain_triangles(p.bx, p.by, tri_t, ids);
+    for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_p[i], box_p[i]);
+    for (int j = 0; j < nt; ++j) triangle_box(tri_t[j], box_t[j]);
+    for (std::uint32_t i = 0; i < x.count; ++i)
+      for (int j = 0; j < nt; ++j) {
+        if (!boxes_overlap(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3)) continue;
+        ++result.triangle_pairs_tested;
+        if (!q.overlap(tri_p[i], tri_t[j])) continue;
+        if (hit && !hit->found) *hit = Hit{true, x.index + i, ids[j]};
+        result.collide = true;
+        result.triangle_pairs.emplace_back(q.part->bvh.prim_ids[x.index + i], ids[j]);
+        if (result.triangle_pairs.size() >= limit) return false;
+      }
+    return true;
+  }
+
+  int split(const Pair& p, const Cull& c, Pair* kids) const {
+    const BvhNode& x = q.part->bvh.nodes[p.node];
+    if (split_part(x, p.level, c.part_size, c.blo, c.bhi)) {
+      kids[0] = {x.index, p.level, p.bx, p.by, 0.0};
+      kids[1] = {x.index + 1, p.level, p.bx, p.by, 0.0};
+      return 2;
+    }
+    int cells[4][2];
+    const int n = block_children(*q.hf, p.level, p.bx, p.by, cells);
+    for (int k = 0; k < n; ++k) kids[k] = {p.node, p.level - 1, cells[k][0], cells[k][1], 0.0};
+    return n;
+  }
+};
 
 void collide_in(const HfQuery& q, std::size_t limit, CollideResult& result, Hit* hit) {
-  const Heightfield& hf = *q.hf;
-  std::vector<Pair>& stack = t_hf_stack;
-  stack.clear();
-  stack.push_back({0, static_cast<int>(hf.levels().size()) - 1, 0, 0, 0.0});
-  double tri_p[kMaxLeafSize][9], tri_t[kLeafTris][9], box_p[kMaxLeafSize][6], box_t[kLeafTris][6];
-  std::uint32_t ids[kLeafTris];
-  while (!stack.empty()) {
-    const Pair p = stack.back();
-    stack.pop_back();
-    ++result.node_pairs_visited;
-    double blo[3], bhi[3], part_size;
-    if (!q.block(p.level, p.bx, p.by, blo, bhi)) continue;
-    if (disjoint(q, p.node, blo, bhi, part_size)) continue;
-    const BvhNode& x = q.part->bvh.nodes[p.node];
-    if (x.is_leaf() && p.level == 0) {
-      q.part_triangles(x, tri_p);
-      const int nt = q.terrain_triangles(p.bx, p.by, tri_t, ids);
-      for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_p[i], box_p[i]);
-      for (int j = 0; j < nt; ++j) triangle_box(tri_t[j], box_t[j]);
-      for (std::uint32_t i = 0; i < x.count; ++i)
-        for (int j = 0; j < nt; ++j) {
-          if (!boxes_overlap(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3)) continue;
-          ++result.triangle_pairs_tested;
-          if (!q.overlap(tri_p[i], tri_t[j])) continue;
-          if (hit && !hit->found) *hit = Hit{true, x.index + i, ids[j]};
-          result.collide = true;
-          result.triangle_pairs.emplace_back(q.part->bvh.prim_ids[x.index + i], ids[j]);
-          if (result.triangle_pairs.size() >= limit) return;
-        }
-      continue;
-    }
-    const bool split_part = !x.is_leaf() && (p.level == 0 || part_size >= half_sum(blo, bhi));
-    if (split_part) {
-      stack.push_back({x.index + 1, p.level, p.bx, p.by, 0.0});
-      stack.push_back({x.index, p.level, p.bx, p.by, 0.0});
-    } else {
-      int kids[4][2];
-      const int n = block_children(hf, p.level, p.bx, p.by, kids);
-      for (int k = n - 1; k >= 0; --k) stack.push_back({p.node, p.level - 1, kids[k][0], kids[k][1], 0.0});
-    }
+  HfOverlap o{q, limit, result, hit};
+  overlap_descent(o, t_hf_stack, Pair{0, static_cast<int>(q.hf->levels().size()) - 1, 0, 0, 0.0});
+}
+
+constexpr double kShrink = 1.0 - 1e-12;
+
+// Distance to the terrain once no pair intersects, for distance_descent
+// (kernels/pair_traversal.h).
+struct HfDistance {
+  using Pair = plancheck::Pair;
+
+  const HfQuery& q;
+  DistanceResult& result;
+  double best;
+  double shrink_rel;
+  double tie;
+  double cut = std::max(0.0, best * shrink_rel - tie);
+  double best2_ = cut * cut;
+  bool found = false;
+  std::uint32_t best_slot = 0, best_tri = 0;
+  Vec3 best_pp = Vec3::Zero(), best_pt = Vec3::Zero();
+
+  double best2() const { return best2_; }
+  void visited() { ++result.node_pairs_visited; }
+  bool leaf_pair(const Pair& p) const { return q.part->bvh.nodes[p.node].is_leaf() && p.level == 0; }
+
+  // The kernel on one triangle pair (part slot, dem_mesh index).
+  void consider(const double* p, const double* t, std::uint32_t slot, std::uint32_t tri) {
+    Vec3 pp, pt;
+    const double dist = std::sqrt(q.distance2(p, t, pp, pt));
+    if (!(dist < best)) return;
+    found = true;
+    best = dist;
+    cut = std::max(0.0, best * shrink_rel - tie);
+    best2_ = cut * cut;
+    best_slot = slot, best_tri = tri, best_pp = pp, best_pt = pt;
   }
+
+  double lower2(std::uint32_t node, const double* blo, const double* bhi) const {
+    if (q.use_obb) {
+      PosedObb o;
+      q.posed_obb(node, o);
+      const double lb = obb_box_lower(o, blo, bhi, q.tolerance(o, blo, bhi));
+      return lb * lb * kShrink;
+    }
+    double plo[3], phi[3];
+    q.part_box(node, plo, phi);
+    return box_distance_squared(plo, phi, blo, bhi) * kShrink;
+  }
+
+  bool leaves(const Pair& p) {
+    const BvhNode& x = q.part->bvh.nodes[p.node];
+    double tri_p[kMaxLeafSize][9], tri_t[kLeafTris][9], box_p[kMaxLeafSize][6], box_t[kLeafTris][6];
+    std::uint32_t ids[kLeafTris];
+    q.part_triangles(x, tri_p);
+    const int nt = q.terrain_triangles(p.bx, p.by, tri_t, ids);
+    for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_p[i], box_p[i]);
+    for (int j = 0; j < nt; ++j) triangle_box(tri_t[j], box_t[j]);
+    for (std::uint32_t i = 0; i < x.count; ++i)
+      for (int j = 0; j < nt; ++j) {
+        if (box_distance_squared(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3) * kShrink >= best2_) continue;
+        ++result.triangle_pairs_tested;
+        consider(tri_p[i], tri_t[j], x.index + i, ids[j]);
+      }
+    return true;
+  }
+
+  int split(const Pair& p, Pair* kids) const {
+    const BvhNode& x = q.part->bvh.nodes[p.node];
+    double blo[3], bhi[3];
+    q.block(p.level, p.bx, p.by, blo, bhi);
+    double part_size;
+    if (q.use_obb) {
+      const double* h = q.part->obbs[p.node].half;
+      part_size = h[0] + h[1] + h[2];
+    } else {
+      double plo[3], phi[3];
+      q.part_box(p.node, plo, phi);
+      part_size = half_sum(plo, phi);
+    }
+    if (split_part(x, p.level, part_size, blo, bhi)) {
+      for (std::uint32_t c = 0; c < 2; ++c) kids[c] = {x.index + c, p.level, p.bx, p.by, lower2(x.index + c, blo, bhi)};
+      return 2;
+    }
+    int cells[4][2];
+    const int m = block_children(*q.hf, p.level, p.bx, p.by, cells);
+    for (int k = 0; k < m; ++k) {
+      double clo[3], chi[3];
+      q.block(p.level - 1, cells[k][0], cells[k][1], clo, chi);
+      kids[k] = {p.node, p.level - 1, cells[k][0], cells[k][1], lower2(p.node, clo, chi)};
+    }
+    return m;
+  }
+};
+
+// The working-frame corners of part slot `slot` and of dem_mesh triangle
+// `tri` (the block holding its cell gives them); false when tri is not found.
+bool triangle_pair(const HfQuery& q, std::uint32_t slot, std::uint32_t tri, double* p, double* t) {
+  int cc, cr, k;
+  q.hf->triangle_cell(tri, cc, cr, k);
+  BvhNode one{{0, 0, 0}, {0, 0, 0}, slot, 1};
+  double tri_p[1][9], tri_t[kLeafTris][9];
+  std::uint32_t ids[kLeafTris];
+  q.part_triangles(one, tri_p);
+  const int n = q.terrain_triangles(cc / Heightfield::kLeafCells, cr / Heightfield::kLeafCells, tri_t, ids);
+  for (int j = 0; j < n; ++j)
+    if (ids[j] == tri) {
+      std::copy(tri_p[0], tri_p[0] + 9, p);
+      std::copy(tri_t[j], tri_t[j] + 9, t);
+      return true;
+    }
+  return false;
 }
 
 }  // namespace
@@ -627,8 +666,6 @@ void distance(const CollisionModel& a, const Affine& ta, const Heightfield& terr
     result.slot_a = slot;
     result.slot_b = tri;
   };
-  double tri_p[kMaxLeafSize][9], tri_t[kLeafTris][9];
-  std::uint32_t ids[kLeafTris];
   {
     // Intersection first, as the mesh path does: distance bounds cannot cull
     // anything among pairs at distance 0.
@@ -638,125 +675,29 @@ void distance(const CollisionModel& a, const Affine& ta, const Heightfield& terr
     result.node_pairs_visited += c.node_pairs_visited;
     result.triangle_pairs_tested += c.triangle_pairs_tested;
     if (hit.found) {
-      int cc, cr, k;
-      hf.triangle_cell(hit.tri, cc, cr, k);
-      BvhNode one{{0, 0, 0}, {0, 0, 0}, hit.slot, 1};
-      q.part_triangles(one, tri_p);
-      // The block holding the cell gives its working-frame corners.
-      const int n = q.terrain_triangles(cc / Heightfield::kLeafCells, cr / Heightfield::kLeafCells, tri_t, ids);
-      for (int j = 0; j < n; ++j)
-        if (ids[j] == hit.tri) {
-          const TriDistance d = q.common_point(tri_p[0], tri_t[j]);
-          finish(hit.slot, hit.tri, d.point_p, d.point_q, 0.0);
-        }
+      double p[9], t[9];
+      if (triangle_pair(q, hit.slot, hit.tri, p, t)) {
+        const TriDistance d = q.common_point(p, t);
+        finish(hit.slot, hit.tri, d.point_p, d.point_q, 0.0);
+      }
       return;
     }
   }
-  double best = request.upper_bound;
-  const double shrink_rel = 1.0 / (1.0 + std::max(0.0, request.rel_tolerance));
-  const double tie = std::max(0.0, request.abs_tolerance);
-  double cut = std::max(0.0, best * shrink_rel - tie);
-  double best2 = cut * cut;
-  constexpr double kShrink = 1.0 - 1e-12;
-  bool found = false;
-  std::uint32_t best_slot = 0, best_tri = 0;
-  Vec3 best_pp = Vec3::Zero(), best_pt = Vec3::Zero();
-  auto consider = [&](const double* p, const double* t, std::uint32_t slot, std::uint32_t tri) {
-    Vec3 pp, pt;
-    const double dist = std::sqrt(q.distance2(p, t, pp, pt));
-    if (!(dist < best)) return;
-    found = true;
-    best = dist;
-    cut = std::max(0.0, best * shrink_rel - tie);
-    best2 = cut * cut;
-    best_slot = slot, best_tri = tri, best_pp = pp, best_pt = pt;
-  };
+  HfDistance d{q, result, request.upper_bound, 1.0 / (1.0 + std::max(0.0, request.rel_tolerance)),
+               std::max(0.0, request.abs_tolerance)};
   if (request.seed_slot_a >= 0 && request.seed_slot_b >= 0 &&
       static_cast<std::uint64_t>(request.seed_slot_a) < q.part->triangle_count() &&
       static_cast<std::uint64_t>(request.seed_slot_b) < hf.triangle_count()) {
     const auto slot = static_cast<std::uint32_t>(request.seed_slot_a);
     const auto tri = static_cast<std::uint32_t>(request.seed_slot_b);
-    int cc, cr, k;
-    hf.triangle_cell(tri, cc, cr, k);
-    BvhNode one{{0, 0, 0}, {0, 0, 0}, slot, 1};
-    q.part_triangles(one, tri_p);
-    const int n = q.terrain_triangles(cc / Heightfield::kLeafCells, cr / Heightfield::kLeafCells, tri_t, ids);
-    for (int j = 0; j < n; ++j)
-      if (ids[j] == tri) consider(tri_p[0], tri_t[j], slot, tri);
+    double p[9], t[9];
+    if (triangle_pair(q, slot, tri, p, t)) d.consider(p, t, slot, tri);
   }
-  auto lower2 = [&](std::uint32_t node, const double* blo, const double* bhi, double* part_size) {
-    if (q.use_obb) {
-      HfQuery::PosedObb o;
-      q.posed_obb(node, o);
-      if (part_size) *part_size = o.half[0] + o.half[1] + o.half[2];
-      const double lb = q.obb_box_lower(o, blo, bhi);
-      return lb * lb * kShrink;
-    }
-    double plo[3], phi[3];
-    q.part_box(node, plo, phi);
-    if (part_size) *part_size = half_sum(plo, phi);
-    return box_distance_squared(plo, phi, blo, bhi) * kShrink;
-  };
-  std::vector<Pair>& stack = t_hf_stack;
-  stack.clear();
-  {
-    const int root = static_cast<int>(hf.levels().size()) - 1;
-    double blo[3], bhi[3];
-    if (!q.block(root, 0, 0, blo, bhi)) return;
-    stack.push_back({0, root, 0, 0, lower2(0, blo, bhi, nullptr)});
-  }
-  double box_p[kMaxLeafSize][6], box_t[kLeafTris][6];
-  while (!stack.empty()) {
-    const Pair p = stack.back();
-    stack.pop_back();
-    if (!(p.lower2 < best2)) continue;
-    ++result.node_pairs_visited;
-    const BvhNode& x = q.part->bvh.nodes[p.node];
-    double blo[3], bhi[3];
-    q.block(p.level, p.bx, p.by, blo, bhi);
-    if (x.is_leaf() && p.level == 0) {
-      q.part_triangles(x, tri_p);
-      const int nt = q.terrain_triangles(p.bx, p.by, tri_t, ids);
-      for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_p[i], box_p[i]);
-      for (int j = 0; j < nt; ++j) triangle_box(tri_t[j], box_t[j]);
-      for (std::uint32_t i = 0; i < x.count; ++i)
-        for (int j = 0; j < nt; ++j) {
-          if (box_distance_squared(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3) * kShrink >= best2) continue;
-          ++result.triangle_pairs_tested;
-          consider(tri_p[i], tri_t[j], x.index + i, ids[j]);
-        }
-      continue;
-    }
-    double part_size;
-    if (q.use_obb) {
-      const double* h = q.part->obbs[p.node].half;
-      part_size = h[0] + h[1] + h[2];
-    } else {
-      double plo[3], phi[3];
-      q.part_box(p.node, plo, phi);
-      part_size = half_sum(plo, phi);
-    }
-    const bool split_part = !x.is_leaf() && (p.level == 0 || part_size >= half_sum(blo, bhi));
-    Pair kids[4];
-    int n = 0;
-    if (split_part) {
-      for (std::uint32_t c = 0; c < 2; ++c)
-        kids[n++] = {x.index + c, p.level, p.bx, p.by, lower2(x.index + c, blo, bhi, nullptr)};
-    } else {
-      int cells[4][2];
-      const int m = block_children(hf, p.level, p.bx, p.by, cells);
-      for (int k = 0; k < m; ++k) {
-        double clo[3], chi[3];
-        q.block(p.level - 1, cells[k][0], cells[k][1], clo, chi);
-        kids[n++] = {p.node, p.level - 1, cells[k][0], cells[k][1], lower2(p.node, clo, chi, nullptr)};
-      }
-    }
-    // Closest pair on top of the stack: visited first, it tightens the bound.
-    farthest_first(kids, n, [](const Pair& a) { return a.lower2; });
-    for (int k = 0; k < n; ++k)
-      if (kids[k].lower2 < best2) stack.push_back(kids[k]);
-  }
-  if (found) finish(best_slot, best_tri, best_pp, best_pt, best);
+  const int root = static_cast<int>(hf.levels().size()) - 1;
+  double blo[3], bhi[3];
+  if (!q.block(root, 0, 0, blo, bhi)) return;
+  distance_descent(d, t_hf_stack, Pair{0, root, 0, 0, d.lower2(0, blo, bhi)});
+  if (d.found) finish(d.best_slot, d.best_tri, d.best_pp, d.best_pt, d.best);
 }
 
 }  // namespace plancheck
