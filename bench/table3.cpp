@@ -139,7 +139,7 @@ int run_table3(int argc, char** argv) {
     Mesh terrain;
     double fcl_build = 0;
     if (scene.terrain && scene.terrain->collide)
-      terrain = dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin);
+      terrain = dem_mesh(*scene.terrain->grid, scene.terrain->origin);
     if (with_fcl) {
       std::cerr << "table3: building FCL models (OBBRSS)\n";
       std::vector<const Mesh*> meshes;

@@ -38,7 +38,7 @@ double soil_volume(const Dem& grid) {
   return v * grid.cellsize * grid.cellsize;
 }
 
-Digger::Digger(const Scene& scene) : Digger(scene, load_dem(scene.terrain->dem, scene.length_scale)) {}
+Digger::Digger(const Scene& scene) : Digger(scene, *scene.terrain->grid) {}
 
 Digger::Digger(const Scene& scene, Dem undisturbed) : scene_(scene), base_(std::move(undisturbed)) {
   origin_ = scene.terrain ? scene.terrain->origin : Vec3::Zero();

@@ -16,8 +16,7 @@ ProbeCaster::ProbeCaster(const Scene& scene) : scene_(scene) {
     names_.push_back(p.name);
   }
   if (scene.terrain && scene.terrain->collide) {
-    terrain_ = std::make_unique<const Heightfield>(load_dem(scene.terrain->dem, scene.length_scale),
-                                                   scene.terrain->origin);
+    terrain_ = std::make_unique<const Heightfield>(*scene.terrain->grid, scene.terrain->origin);
     // Embree's bounds of the terrain are fixed at commit: widen them in z
     // far beyond any dig (a pit or rim kilometres deep is not soil any
     // scoop moves); only rays that miss the grid's footprint are culled.

@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -88,10 +89,16 @@ struct CheckedPair {
   int b = -1;
 };
 
+struct Dem;  // terrain.h
+
 struct TerrainConfig {
   std::filesystem::path dem;   // resolved against the scene file's folder
   Vec3 origin = Vec3::Zero();  // where the grid's (xll, yll, 0) sits (m)
   bool collide = true;
+  // The grid read from `dem` once, by the scene loader (length_scale
+  // applied); everything that needs the terrain starts from it. Shared and
+  // immutable, so copies of a Scene share one grid.
+  std::shared_ptr<const Dem> grid;
 };
 
 struct ScoopTemplate {

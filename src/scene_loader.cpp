@@ -8,6 +8,7 @@
 #include "src/error.h"
 #include "src/model_loader.h"
 #include "src/robot_loader.h"
+#include "src/terrain.h"
 
 #include <nlohmann/json.hpp>
 
@@ -386,7 +387,7 @@ void read_terrain(const Reader& r, const Json& j, Scene& scene) {
   if (j.contains("collide")) t.collide = r.boolean(j["collide"], "terrain.collide");
   std::error_code ec;
   if (!std::filesystem::is_regular_file(t.dem, ec)) r.error("terrain.dem", "cannot open " + t.dem.string());
-  scene.terrain = t;
+  scene.terrain = t;  // the grid itself is read once the scene file is checked (load_scene)
 }
 
 double positive(const Reader& r, const Json& j, const std::string& where) {
@@ -597,6 +598,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& scene_js
   resolve_pairs(r, root.contains("allowed_collisions") ? &root["allowed_collisions"] : nullptr, scene, robot_allowed);
   if (root.contains("scoop")) read_scoop(r, root["scoop"], scene);
   if (root.contains("probes")) read_probes(r, root["probes"], scene);
+  // The DEM is read once, here, after every check of the scene file itself,
+  // so a scene's own errors are reported first; everything that needs the
+  // terrain (checks, digging, probes, pages) starts from this grid.
+  if (scene.terrain) scene.terrain->grid = std::make_shared<const Dem>(load_dem(scene.terrain->dem, scene.length_scale));
   return scene;
 }
 

@@ -84,7 +84,7 @@ std::vector<ReferenceContact> reference_contacts(const Scene& scene) {
   }
   Mesh terrain;
   if (scene.terrain && scene.terrain->collide) {
-    terrain = dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin);
+    terrain = dem_mesh(*scene.terrain->grid, scene.terrain->origin);
     meshes.push_back(&terrain);
     names.push_back("terrain");
     chain.push_back(-1);

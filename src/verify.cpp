@@ -95,7 +95,7 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene), motion_(scene
   const bool terrain = scene.terrain && scene.terrain->collide;
   const bool dug = terrain && scene.scoop;
   if (terrain) {
-    const Dem dem = load_dem(scene.terrain->dem, scene.length_scale);
+    const Dem& dem = *scene.terrain->grid;
     terrain_ = std::make_unique<const Heightfield>(dem, scene.terrain->origin);
     if (!dug) terrain_mesh = dem_mesh(dem, scene.terrain->origin);
     names_.push_back("terrain");

@@ -141,7 +141,7 @@ void site_plans(const Scene& site, const fs::path& dir) {
   std::printf("\n## plan01 on the site resampled per resolution (error against 0.5 cm)\n");
   std::printf("| model | cell (cm) | collected (cm^3) | error vs finest | depth (cm) | ms/state (all states) |\n|---|---|---|---|---|---|\n");
   const Plan plan = load_plan(site, dir / "plans/plan01.csv");
-  const Dem src = load_dem(site.terrain->dem, site.length_scale);
+  const Dem& src = *site.terrain->grid;
   for (const std::string model : {"template", "swept"}) {
     Scene s = site;
     s.scoop->model = model;
@@ -184,7 +184,7 @@ void probes(const Scene& site, const fs::path& dir) {
   }
 
   // Fan clearance against the exact point-to-terrain distance.
-  const Dem dem = load_dem(site.terrain->dem, site.length_scale);
+  const Dem& dem = *site.terrain->grid;
   const Mesh terrain = dem_mesh(dem, site.terrain->origin);
   RayScene rs;
   rs.add_mesh(terrain);

@@ -34,7 +34,7 @@ struct Fixture {
     std::vector<const Mesh*> meshes;
     for (const Part& p : scene.parts) meshes.push_back(&p.mesh);
     if (scene.terrain && scene.terrain->collide) {
-      terrain = dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin);
+      terrain = dem_mesh(*scene.terrain->grid, scene.terrain->origin);
       meshes.push_back(&terrain);
     }
     fcl = std::make_unique<testing::FclReference>(scene, meshes, checker->pairs());
