@@ -7,7 +7,7 @@
 // distances agree within 1e-9 m, else the run stops with status 3.
 #include "bench/table3.h"
 
-#include "bench/fcl_peer.h"
+#include "reference/fcl_peer.h"
 #include "src/error.h"
 #include "src/parallel.h"
 #include "src/plan.h"
@@ -33,6 +33,8 @@
 namespace plancheck::bench {
 
 namespace {
+
+using reference::FclPeer;
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;

@@ -12,7 +12,7 @@
 #include "src/robot_loader.h"
 #include "src/scene_loader.h"
 #include "src/verify.h"
-#include "support/fcl_reference.h"
+#include "reference/fcl_peer.h"
 #include "foundation/fixtures.h"
 
 #include <gtest/gtest.h>
@@ -224,7 +224,7 @@ TEST(RobotLoader, FclAgreesOnTheUrdfGeometry) {
   const Checker checker(s, 1);
   std::vector<const Mesh*> meshes;
   for (const Part& p : s.parts) meshes.push_back(&p.mesh);
-  const testing::FclReference fcl(s, meshes, checker.pairs());
+  const reference::FclPeer fcl(s, meshes, checker.pairs());
   std::mt19937_64 rng(2019);
   int collisions = 0;
   for (int i = 0; i < 800; ++i) {

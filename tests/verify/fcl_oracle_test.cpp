@@ -9,7 +9,7 @@
 #include "src/scene_loader.h"
 #include "src/terrain.h"
 #include "src/verify.h"
-#include "support/fcl_reference.h"
+#include "reference/fcl_peer.h"
 
 #include <gtest/gtest.h>
 
@@ -27,7 +27,7 @@ struct Fixture {
   Scene scene;
   std::unique_ptr<Checker> checker;
   Mesh terrain;
-  std::unique_ptr<testing::FclReference> fcl;
+  std::unique_ptr<reference::FclPeer> fcl;
 
   Fixture() : scene(load_scene(kScene)) {
     checker = std::make_unique<Checker>(scene);
@@ -37,7 +37,7 @@ struct Fixture {
       terrain = dem_mesh(*scene.terrain->grid, scene.terrain->origin);
       meshes.push_back(&terrain);
     }
-    fcl = std::make_unique<testing::FclReference>(scene, meshes, checker->pairs());
+    fcl = std::make_unique<reference::FclPeer>(scene, meshes, checker->pairs());
   }
 };
 

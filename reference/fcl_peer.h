@@ -4,8 +4,9 @@
 // BVHModel<OBBRSS> built once, posed per state by the scene's kinematics;
 // per state every checked pair is collided, then (unless a pair collides)
 // distanced with one DistanceResult shared across the pairs, so the best
-// distance so far prunes the next pair's traversal. Bench only: FCL never
-// enters plancheck_core.
+// distance so far prunes the next pair's traversal. The one FCL adapter:
+// the Table 3 bench times it and the tests use it as an independent oracle.
+// FCL never enters plancheck_core.
 #pragma once
 
 #include "src/scene.h"
@@ -14,7 +15,7 @@
 #include <utility>
 #include <vector>
 
-namespace plancheck::bench {
+namespace plancheck::reference {
 
 class FclPeer {
  public:
@@ -29,8 +30,9 @@ class FclPeer {
     double distance = 0.0;  // m, minimum over the pairs; 0 when colliding, inf when not asked
   };
   // with_distance false: collision only (every pair collided, no distance).
-  // rel_err: FCL's DistanceRequest::rel_err.
-  Answer check(const std::vector<double>& params, bool with_distance, double rel_err = 0.0) const;
+  // rel_err: FCL's DistanceRequest::rel_err. Not thread-safe: the parts'
+  // FCL objects are re-posed in place (one FclPeer per thread).
+  Answer check(const std::vector<double>& params, bool with_distance = true, double rel_err = 0.0) const;
 
   std::size_t memory_bytes() const;  // BVH nodes, vertices and triangles of every model
 
@@ -39,4 +41,4 @@ class FclPeer {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace plancheck::bench
+}  // namespace plancheck::reference

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "src/tds_writer.h"
+#include "datasets/tds_writer.h"
 
 #include <cmath>
 #include <cstring>

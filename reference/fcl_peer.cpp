@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "bench/fcl_peer.h"
+#include "reference/fcl_peer.h"
 
 #include "src/kinematics.h"
 
@@ -7,7 +7,7 @@
 
 #include <limits>
 
-namespace plancheck::bench {
+namespace plancheck::reference {
 
 struct FclPeer::Impl {
   const Scene* scene = nullptr;
@@ -100,4 +100,4 @@ FclPeer::Answer FclPeer::check(const std::vector<double>& params, bool with_dist
   return answer;
 }
 
-}  // namespace plancheck::bench
+}  // namespace plancheck::reference
