@@ -8,12 +8,12 @@
 #include "bench/table3.h"
 
 #include "reference/fcl_peer.h"
-#include "src/error.h"
-#include "src/parallel.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/terrain.h"
-#include "src/verify.h"
+#include "src/base/error.h"
+#include "src/base/parallel.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/scene/terrain.h"
+#include "src/checks/verify.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "reference/fcl_peer.h"
 
-#include "src/kinematics.h"
+#include "src/scene/kinematics.h"
 
 #include <fcl/fcl.h>
 

@@ -9,7 +9,7 @@
 // FCL never enters plancheck_core.
 #pragma once
 
-#include "src/scene.h"
+#include "src/scene/scene.h"
 
 #include <memory>
 #include <utility>

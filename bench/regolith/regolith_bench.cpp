@@ -9,13 +9,13 @@
 // 3. Probes: rays per second over every state of the default plans, and the
 //    clearance error of a downward fan of 8/32/128 rays at the scoop bottom
 //    against the exact distance from that point to the terrain mesh.
-#include "src/dig.h"
-#include "src/kinematics.h"
-#include "src/plan.h"
-#include "src/probes.h"
-#include "src/raycast.h"
-#include "src/scene_loader.h"
-#include "src/terrain.h"
+#include "src/checks/dig.h"
+#include "src/scene/kinematics.h"
+#include "src/scene/plan.h"
+#include "src/checks/probes.h"
+#include "src/geometry/raycast.h"
+#include "src/scene/scene_loader.h"
+#include "src/scene/terrain.h"
 
 #include "kernels/tri_distance.h"
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "src/output/scene_page.h"
 
-#include "src/probes.h"
+#include "src/checks/probes.h"
 
 #include <limits>
 

@@ -2,9 +2,9 @@
 // Probes against analytic geometry (a ray down onto a flat grid, a fan
 // against a box) and Embree's ray casting against a brute-force double
 // precision ray-triangle reference.
-#include "src/probes.h"
-#include "src/terrain.h"
-#include "src/raycast.h"
+#include "src/checks/probes.h"
+#include "src/scene/terrain.h"
+#include "src/geometry/raycast.h"
 
 #include "tests/support/fixtures.h"
 #include "tests/support/test_meshes.h"

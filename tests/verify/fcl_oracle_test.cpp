@@ -5,10 +5,10 @@
 // Also the search's starting points: a plan's states checked in order, each
 // seeded by the one before (or from cold, by the coarse pass), and arbitrary
 // seeds, give what a cold check gives, to within the tie tolerance.
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/terrain.h"
-#include "src/verify.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/scene/terrain.h"
+#include "src/checks/verify.h"
 #include "reference/fcl_peer.h"
 
 #include <gtest/gtest.h>

@@ -3,9 +3,9 @@
 // Debian's dart-doc, assembled by this fixture into one scene (KR5 links
 // static in a row, WAM links moving over them on free translations and
 // rotations), checked state by state against FCL 0.7.
-#include "src/model_loader.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/scene/model_loader.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "reference/fcl_peer.h"
 #include "support/fixtures.h"
 
