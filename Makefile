@@ -13,7 +13,7 @@ ASAN_BUILD ?= build-asan
 TSAN_BUILD ?= build-tsan
 FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 60
-# fuzz_model forks an importer child per input (src/isolate.h), about 60
+# fuzz_model forks an importer child per input (src/scene/isolate.h), about 60
 # inputs a second under ASan against thousands for the others: it gets longer.
 FUZZ_MODEL_SECONDS ?= 180
 # fuzz_urdf also forks an importer per mesh it resolves: a modest budget.
@@ -76,7 +76,7 @@ test-asan: dataset
 
 # ThreadSanitizer (gcc) on the tests that exercise threads: by convention
 # their names say so (TSAN_TESTS; tests/CMakeLists.txt). parallel_for runs on
-# std::thread there (src/parallel.cpp says why); tests/tsan.supp lists what
+# std::thread there (src/base/parallel.cpp says why); tests/tsan.supp lists what
 # is suppressed. Only the executables holding such tests are built.
 TSAN_TESTS ?= Thread|Concurren|^Parallel\.
 TSAN_TARGETS ?= plancheck plancheck_api_tests plancheck_foundation_tests plancheck_geometry_tests plancheck_terrain_tests plancheck_verify_tests \

@@ -7,13 +7,13 @@
 // distances agree within 1e-9 m, else the run stops with status 3.
 #include "bench/table3.h"
 
-#include "bench/fcl_peer.h"
-#include "src/error.h"
-#include "src/parallel.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/terrain.h"
-#include "src/verify.h"
+#include "bench/fcl_peer/fcl_peer.h"
+#include "src/base/error.h"
+#include "src/base/parallel.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/scene/terrain.h"
+#include "src/checks/verify.h"
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -33,6 +33,8 @@
 namespace plancheck::bench {
 
 namespace {
+
+using reference::FclPeer;
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -139,7 +141,7 @@ int run_table3(int argc, char** argv) {
     Mesh terrain;
     double fcl_build = 0;
     if (scene.terrain && scene.terrain->collide)
-      terrain = dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin);
+      terrain = dem_mesh(*scene.terrain->grid, scene.terrain->origin);
     if (with_fcl) {
       std::cerr << "table3: building FCL models (OBBRSS)\n";
       std::vector<const Mesh*> meshes;

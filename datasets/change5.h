@@ -3,7 +3,7 @@
 // plans. Shared by the generator's translation units only.
 #pragma once
 
-#include "src/scene.h"
+#include "src/scene/scene.h"
 
 #include <array>
 #include <cstdint>

@@ -4,7 +4,7 @@
 // the model can be tuned to the paper's Table 2 counts exactly.
 #pragma once
 
-#include "src/scene.h"
+#include "src/scene/scene.h"
 
 #include <cstdint>
 #include <vector>

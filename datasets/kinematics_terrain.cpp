@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The generator's own forward kinematics (independent of src/kinematics.cpp,
+// The generator's own forward kinematics (independent of src/scene/kinematics.cpp,
 // so tests can compare the two) and the synthetic regolith DEM.
 #include "datasets/change5.h"
 

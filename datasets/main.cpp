@@ -5,7 +5,7 @@
 #include "datasets/change5.h"
 #include "datasets/checker.h"
 #include "datasets/plans.h"
-#include "src/tds_writer.h"
+#include "datasets/tds_writer.h"
 
 #include <nlohmann/json.hpp>
 

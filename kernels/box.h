@@ -8,6 +8,7 @@
 // provably holds no touching triangles.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 namespace plancheck {
@@ -70,6 +71,15 @@ inline double box_distance_squared(const double* alo, const double* ahi, const d
     d2 += gap * gap;
   }
   return d2;
+}
+
+// Axis-aligned box of a triangle (9 doubles): box[0..2] lo, box[3..5] hi.
+// Exact (min and max only), so disjoint boxes prove disjoint triangles.
+inline void triangle_box(const double* t, double* box) noexcept {
+  for (int k = 0; k < 3; ++k) {
+    box[k] = std::min({t[k], t[3 + k], t[6 + k]});
+    box[3 + k] = std::max({t[k], t[3 + k], t[6 + k]});
+  }
 }
 
 }  // namespace plancheck

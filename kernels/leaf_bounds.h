@@ -44,7 +44,7 @@
 
 namespace plancheck {
 
-inline constexpr int kLeafLanes = 16;  // the BVH's maximum leaf size (src/bvh.h)
+inline constexpr int kLeafLanes = 16;  // the BVH's maximum leaf size (src/geometry/bvh.h)
 // Slots of padding after each coordinate row of a model's SoA, so that a
 // 16-lane load at any leaf stays inside the array.
 inline constexpr std::size_t kSoaPadding = kLeafLanes;

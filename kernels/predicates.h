@@ -4,12 +4,12 @@
 // ("Adaptive Precision Floating-Point Arithmetic and Fast Robust Geometric
 // Predicates", 1997, errboundA, here rounded up to 8 eps for orient3d and
 // 4 eps for orient2d); when |det| does not clear the bound, the sign is
-// settled exactly by src/exact.cpp. The result is always the exact sign for
+// settled exactly by src/geometry/exact.cpp. The result is always the exact sign for
 // the given doubles. Non-finite or underflowing evaluations also take the
 // exact path (the bound assumes no underflow).
 #pragma once
 
-#include "src/exact.h"
+#include "src/geometry/exact.h"
 
 #include <cmath>
 

@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <iterator>
 #include <sstream>
@@ -120,9 +121,11 @@ int main(int argc, char** argv) {
   for (int threads : {1, 2}) {
     std::vector<double> t;
     for (int r = 0; r < 5; ++r) {
-      const std::string cmd = "\"" + plancheck_exe.string() + "\" verify \"" + (data / "scene-nodig-bench.json").string() +
-                              "\" \"" + (tmp / "states.csv").string() + "\" --quiet --threads " +
-                              std::to_string(threads) + " --out \"" + (tmp / "out").string() + "\" > /dev/null";
+      std::ostringstream command;  // (a stream, not "..." + string: GCC 12's -Wrestrict false positive, bug 105651)
+      command << std::quoted(plancheck_exe.string()) << " verify " << std::quoted((data / "scene-nodig-bench.json").string())
+              << ' ' << std::quoted((tmp / "states.csv").string()) << " --quiet --threads " << threads << " --out "
+              << std::quoted((tmp / "out").string()) << " > /dev/null";
+      const std::string cmd = command.str();
       const int status = std::system(cmd.c_str());
       if (status != 0 && WEXITSTATUS(status) != 1) {
         std::cerr << "plancheck_api_bench: verify failed: " << cmd << "\n";

@@ -1,17 +1,17 @@
 // SPDX-License-Identifier: MIT
 // Between-states checking, error against run time (issue 6): fixed
 // sub-sampling at 1, 4, 16, 64 and 256 sub-steps per segment (exact check
-// per sub-step) beside the certified check (src/continuous.h), on the
+// per sub-step) beside the certified check (src/checks/continuous.h), on the
 // default plans and on grazing paths built through their colliding and
 // too-close states. Answers are checked first: a fixed sampling that finds a
 // collision or clearance violation the certified check did not flag means the
 // certificate is wrong, and the bench exits 3.
 //   plancheck_continuous_bench [DATASET_DIR] [--threads N]
-#include "src/continuous.h"
-#include "src/parallel.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/checks/continuous.h"
+#include "src/base/parallel.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 
 #include <chrono>
 #include <cmath>

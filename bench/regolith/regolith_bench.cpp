@@ -9,13 +9,13 @@
 // 3. Probes: rays per second over every state of the default plans, and the
 //    clearance error of a downward fan of 8/32/128 rays at the scoop bottom
 //    against the exact distance from that point to the terrain mesh.
-#include "src/dig.h"
-#include "src/kinematics.h"
-#include "src/plan.h"
-#include "src/probes.h"
-#include "src/raycast.h"
-#include "src/scene_loader.h"
-#include "src/terrain.h"
+#include "src/checks/dig.h"
+#include "src/scene/kinematics.h"
+#include "src/scene/plan.h"
+#include "src/checks/probes.h"
+#include "src/geometry/raycast.h"
+#include "src/scene/scene_loader.h"
+#include "src/scene/terrain.h"
 
 #include "kernels/tri_distance.h"
 
@@ -141,7 +141,7 @@ void site_plans(const Scene& site, const fs::path& dir) {
   std::printf("\n## plan01 on the site resampled per resolution (error against 0.5 cm)\n");
   std::printf("| model | cell (cm) | collected (cm^3) | error vs finest | depth (cm) | ms/state (all states) |\n|---|---|---|---|---|---|\n");
   const Plan plan = load_plan(site, dir / "plans/plan01.csv");
-  const Dem src = load_dem(site.terrain->dem, site.length_scale);
+  const Dem& src = *site.terrain->grid;
   for (const std::string model : {"template", "swept"}) {
     Scene s = site;
     s.scoop->model = model;
@@ -184,7 +184,7 @@ void probes(const Scene& site, const fs::path& dir) {
   }
 
   // Fan clearance against the exact point-to-terrain distance.
-  const Dem dem = load_dem(site.terrain->dem, site.length_scale);
+  const Dem& dem = *site.terrain->grid;
   const Mesh terrain = dem_mesh(dem, site.terrain->origin);
   RayScene rs;
   rs.add_mesh(terrain);

@@ -6,10 +6,10 @@
 // The core's types (plancheck::Scene, plancheck::Checker, ...) share short
 // names with the public ones (plancheck::v0::...): they are given aliases
 // here before the public header is read, and only the aliases are used after.
-#include "src/error.h"
-#include "src/parallel.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/base/error.h"
+#include "src/base/parallel.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 
 namespace plancheck_core {
 using Scene = ::plancheck::Scene;

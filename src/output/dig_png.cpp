@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "src/output/dig_png.h"
 
-#include "src/error.h"
+#include "src/base/error.h"
 
 #include <cairo.h>
 

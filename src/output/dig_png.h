@@ -8,8 +8,8 @@
 // deepest scoop point (a ring).
 #pragma once
 
-#include "src/scene.h"
-#include "src/terrain.h"
+#include "src/scene/scene.h"
+#include "src/scene/terrain.h"
 
 #include <filesystem>
 #include <optional>

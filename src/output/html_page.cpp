@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "src/output/html_page.h"
 
-#include "src/error.h"
-#include "src/report.h"
+#include "src/base/error.h"
+#include "src/output/report.h"
 
 
 // The bundle's bytes, from the generated viewer_bundle.cpp (src/CMakeLists.txt).

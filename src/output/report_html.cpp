@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "src/output/report_html.h"
 
-#include "src/dig.h"
-#include "src/error.h"
-#include "src/kinematics.h"
+#include "src/checks/dig.h"
+#include "src/base/error.h"
+#include "src/scene/kinematics.h"
 #include "src/output/scene_page.h"
 
 #include <fstream>

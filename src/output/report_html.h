@@ -5,8 +5,8 @@
 // report.json just written, which the page shows as it is.
 #pragma once
 
-#include "src/report.h"
-#include "src/verify.h"
+#include "src/output/report.h"
+#include "src/checks/verify.h"
 
 #include <filesystem>
 #include <vector>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "src/output/scene_page.h"
 
-#include "src/probes.h"
+#include "src/checks/probes.h"
 
 #include <limits>
 
@@ -96,7 +96,7 @@ PageJson scene_page_json(const Checker& checker, const Scene& scene, const PageF
 
   if (scene.terrain) {
     const Vec3 origin = scene.terrain->origin;
-    const Dem base = load_dem(scene.terrain->dem, scene.length_scale);
+    const Dem& base = *scene.terrain->grid;
     const SampleRect all{0, 0, base.ncols - 1, base.nrows - 1};
     page["terrain"] = {{"ncols", base.ncols}, {"nrows", base.nrows}, {"cellsize", base.cellsize / frame.unit},
                        {"x0", (origin.x() + base.x0 - frame.centre.x()) / frame.unit},

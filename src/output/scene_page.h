@@ -5,9 +5,9 @@
 #pragma once
 
 #include "src/output/html_page.h"
-#include "src/terrain.h"
-#include "src/heightfield.h"
-#include "src/verify.h"
+#include "src/scene/terrain.h"
+#include "src/geometry/heightfield.h"
+#include "src/checks/verify.h"
 
 #include <nlohmann/json.hpp>
 

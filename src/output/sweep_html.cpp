@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "src/output/sweep_html.h"
 
-#include "src/error.h"
-#include "src/kinematics.h"
+#include "src/base/error.h"
+#include "src/scene/kinematics.h"
 #include "src/output/scene_page.h"
 
 #include <fstream>

@@ -6,8 +6,8 @@
 // action depends on its own parameters only), composed along each chain.
 #pragma once
 
-#include "src/sweep.h"
-#include "src/verify.h"
+#include "src/cli/sweep.h"
+#include "src/checks/verify.h"
 
 #include <cstdint>
 #include <filesystem>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Round trip of src/tds_writer through assimp 5.2's own 3DS importer, read raw
+// Round trip of datasets/tds_writer through assimp 5.2's own 3DS importer, read raw
 // (no post-processing), so what the loader sees is what the writer meant.
-#include "src/tds_writer.h"
+#include "datasets/tds_writer.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>

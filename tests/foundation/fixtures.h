@@ -4,8 +4,8 @@
 // translations, which OBJ cannot), and an InputError matcher.
 #pragma once
 
-#include "src/error.h"
-#include "src/scene.h"
+#include "src/base/error.h"
+#include "src/scene/scene.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -2,9 +2,9 @@
 // run_isolated: whatever the child does (returns, throws, crashes, hangs,
 // exits, eats memory), the parent gets the result or one exception saying
 // what happened, and the parent's own state is untouched by the child.
-#include "src/isolate.h"
+#include "src/scene/isolate.h"
 
-#include "src/error.h"
+#include "src/base/error.h"
 
 #include <gtest/gtest.h>
 

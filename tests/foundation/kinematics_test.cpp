@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Forward kinematics against poses computed by hand, the composition order of
 // the contract, units (m/cm/mm, deg/rad) and limits.
-#include "src/kinematics.h"
+#include "src/scene/kinematics.h"
 
-#include "src/scene_loader.h"
+#include "src/scene/scene_loader.h"
 #include "tests/foundation/fixtures.h"
 
 #include <gtest/gtest.h>

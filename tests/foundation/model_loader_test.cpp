@@ -2,7 +2,7 @@
 // load_model on real files: expected names, hierarchy and triangle counts come
 // from reading the files independently (a 3ds chunk walker, OBJ/STL/PLY/glTF/
 // Collada counts), never from the loader's own output.
-#include "src/model_loader.h"
+#include "src/scene/model_loader.h"
 
 #include "tests/foundation/fixtures.h"
 

@@ -3,8 +3,8 @@
 // translations and scales, no vertex's path (as a fine polyline, which is
 // never longer than the path) is longer than the bound, on whole segments and
 // on sub-intervals; on a single rotation the bound is the exact arc length.
-#include "src/kinematics.h"
-#include "src/motion_bound.h"
+#include "src/scene/kinematics.h"
+#include "src/geometry/motion_bound.h"
 #include "support/fixtures.h"
 
 #include <gtest/gtest.h>

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
-// src/parallel.h: every item runs once, and a slot is never used by two
+// src/base/parallel.h: every item runs once, and a slot is never used by two
 // bodies of one call at the same time, also when calls nest (callers index
 // per-thread scratch by slot without locks).
-#include "src/parallel.h"
+#include "src/base/parallel.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Plan CSV: comments and keys, units, missing columns, line endings, and every
 // error with file:line(:column) in the message.
-#include "src/plan.h"
+#include "src/scene/plan.h"
 
-#include "src/scene_loader.h"
+#include "src/scene/scene_loader.h"
 #include "tests/foundation/fixtures.h"
 
 #include <gtest/gtest.h>

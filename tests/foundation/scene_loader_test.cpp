@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // load_scene: units, actions, chains, checked pairs, optional blocks, and
 // every error path with the file and key path in the message.
-#include "src/scene_loader.h"
+#include "src/scene/scene_loader.h"
 
 #include "tests/foundation/fixtures.h"
 

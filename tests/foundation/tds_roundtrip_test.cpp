@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
-// A 3ds file written by the project's own writer (src/tds_writer.h), read
+// A 3ds file written by the project's own writer (datasets/tds_writer.h), read
 // back through the real loader: names, parents, and every triangle's vertices.
-#include "src/model_loader.h"
-#include "src/tds_writer.h"
+#include "src/scene/model_loader.h"
+#include "datasets/tds_writer.h"
 #include "support/fixtures.h"
 
 #include <gtest/gtest.h>

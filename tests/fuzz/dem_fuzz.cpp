@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // ESRI ASCII DEM: the reader, then the mesh and surface height of what it read.
-#include "src/error.h"
-#include "src/terrain.h"
+#include "src/base/error.h"
+#include "src/scene/terrain.h"
 #include "tests/fuzz/support.h"
 
 #include <cmath>

@@ -2,12 +2,12 @@
 // Model files through assimp and our own 3ds chunk reader and OFF guard. The
 // first byte picks the format (the file name's extension, which is what
 // assimp and our readers go by); the rest is the file. assimp runs in its
-// child process (src/isolate.h), so its own crashes and hangs end as
+// child process (src/scene/isolate.h), so its own crashes and hangs end as
 // InputErrors; what is fuzzed here is that containment, our guards ahead of
 // assimp and our checks of what the child hands back. The child's time limit
 // stays under libFuzzer's -timeout (10 s in `make fuzz`).
-#include "src/error.h"
-#include "src/model_loader.h"
+#include "src/base/error.h"
+#include "src/scene/model_loader.h"
 #include "tests/fuzz/support.h"
 
 #include <iterator>

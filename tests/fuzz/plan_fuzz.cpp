@@ -2,9 +2,9 @@
 // Plan CSV against the fuzz scene (every action kind, so every column unit).
 // A plan that loads has exactly the rows the contract counts, each a full
 // parameter vector.
-#include "src/error.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
+#include "src/base/error.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
 #include "tests/fuzz/support.h"
 
 #include <cmath>

@@ -2,8 +2,8 @@
 // Scene JSON: the input is the scene file's text, read next to the fuzz
 // scene's model.obj and dem.asc (support.h), so actions, pairs, terrain,
 // scoop and probe blocks resolve against a real model.
-#include "src/error.h"
-#include "src/scene_loader.h"
+#include "src/base/error.h"
+#include "src/scene/scene_loader.h"
 #include "tests/fuzz/support.h"
 
 #include <set>

@@ -3,7 +3,7 @@
 // written into it, and an independent count of a plan's data rows.
 #pragma once
 
-#include "src/scene.h"
+#include "src/scene/scene.h"
 
 #include <cstddef>
 #include <cstdint>

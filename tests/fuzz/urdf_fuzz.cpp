@@ -3,11 +3,11 @@
 // (if any) the SRDF's. Beside them in scratch(): a package "pkg" (with its
 // package.xml) holding an OBJ box, so package://pkg/box.obj, meshes/box.obj
 // and file:// paths resolve to a real mesh (loaded through the isolated
-// importer, src/isolate.h). What is fuzzed: urdfdom and tinyxml2 behind our
+// importer, src/scene/isolate.h). What is fuzzed: urdfdom and tinyxml2 behind our
 // own checks (tree, joints, mimic, SRDF pairs), mesh lookup, primitives.
-#include "src/error.h"
-#include "src/kinematics.h"
-#include "src/scene_loader.h"
+#include "src/base/error.h"
+#include "src/scene/kinematics.h"
+#include "src/scene/scene_loader.h"
 #include "tests/fuzz/support.h"
 
 #include <set>

@@ -3,10 +3,10 @@
 // one of its rows is checked (one result per row the contract counts, each
 // with a collision test and a distance), and a "safe" verdict agrees with
 // every state's result and with the limits computed here from the scene.
-#include "src/error.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/base/error.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "tests/fuzz/support.h"
 
 #include <cmath>

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "kernels/box.h"
 
-#include "src/scene.h"
+#include "src/scene/scene.h"
 
 #include <gtest/gtest.h>
 

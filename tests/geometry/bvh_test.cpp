@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "src/bvh.h"
+#include "src/geometry/bvh.h"
 
 #include "support/test_meshes.h"
 

@@ -2,7 +2,7 @@
 // The SIMD leaf prefilters change no answer: collide() and distance() give
 // bitwise the same results with every instruction set as with kernels that
 // prove nothing (every pair on the double path, as before the prefilters).
-#include "src/collision_model.h"
+#include "src/geometry/collision_model.h"
 
 #include "kernels/leaf_bounds.h"
 #include "support/test_meshes.h"

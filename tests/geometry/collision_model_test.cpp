@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "src/collision_model.h"
+#include "src/geometry/collision_model.h"
 
 #include "kernels/tri_tri_overlap.h"
 #include "support/brute_force.h"
+#include "src/base/parallel.h"
 #include "support/sanitized.h"
-#include "src/parallel.h"
 #include "support/test_meshes.h"
 
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
 // Run: build/tests/plancheck_geometry_tests --gtest_also_run_disabled_tests
 //        --gtest_filter='GeometryMeasure.*'
 // Every timed answer is first checked against FCL (OBBRSS) on the same poses.
-#include "src/bvh.h"
-#include "src/collision_model.h"
+#include "src/geometry/bvh.h"
+#include "src/geometry/collision_model.h"
 
 #include "support/test_meshes.h"
 

@@ -7,7 +7,7 @@
 #include "kernels/leaf_bounds.h"
 #include "kernels/tri_distance.h"
 #include "kernels/tri_tri_overlap.h"
-#include "src/bvh.h"
+#include "src/geometry/bvh.h"
 
 #include <gtest/gtest.h>
 

@@ -5,11 +5,11 @@
 #include "src/output/html_page.h"
 #include "src/output/report_html.h"
 
-#include "src/kinematics.h"
-#include "src/plan.h"
-#include "src/report.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/scene/kinematics.h"
+#include "src/scene/plan.h"
+#include "src/output/report.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "support/bar_scene.h"
 #include "support/fixtures.h"
 

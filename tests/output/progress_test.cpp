@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Progress lines (src/progress.h) and the command line's --quiet.
-#include "src/progress.h"
+// Progress lines (src/base/progress.h) and the command line's --quiet.
+#include "src/base/progress.h"
 
 #include "support/fixtures.h"
 

@@ -2,9 +2,9 @@
 // Probes against analytic geometry (a ray down onto a flat grid, a fan
 // against a box) and Embree's ray casting against a brute-force double
 // precision ray-triangle reference.
-#include "src/probes.h"
-#include "src/terrain.h"
-#include "src/raycast.h"
+#include "src/checks/probes.h"
+#include "src/scene/terrain.h"
+#include "src/geometry/raycast.h"
 
 #include "tests/support/fixtures.h"
 #include "tests/support/test_meshes.h"
@@ -59,7 +59,8 @@ TEST(Probes, RayStraightDownMeetsAFlatGridAtItsHeight) {
   }
   testing::write_text(dir / "flat.asc", dem);
   Scene s = probe_scene({});
-  s.terrain = TerrainConfig{dir / "flat.asc", Vec3(1.0, -0.5, 0.1), true};
+  s.terrain = TerrainConfig{dir / "flat.asc", Vec3(1.0, -0.5, 0.1), true,
+                            std::make_shared<const Dem>(load_dem(dir / "flat.asc", 1.0))};
   s.probes.push_back(probe(Vec3(1.4, -0.1, 2.0), -Vec3::UnitZ(), 1, 0.0, 3.0));
   s.probes.push_back(probe(Vec3(1.4, -0.1, 2.0), Vec3::UnitZ(), 1, 0.0, 3.0));     // up: nothing
   s.probes.push_back(probe(Vec3(1.4, -0.1, 2.0), -Vec3::UnitZ(), 1, 0.0, 1.0));    // too short

@@ -1,18 +1,18 @@
 // SPDX-License-Identifier: MIT
-// Robots from URDF/SRDF (src/robot_loader.h). The test arm in
+// Robots from URDF/SRDF (src/scene/robot_loader.h). The test arm in
 // tests/data/robot/arm_description has every joint type, meshes in three
 // formats reached three ways, primitives and a mimic joint. The same cell is
 // written here by hand as a plain scene (a glTF node tree and actions with
 // pivots and axes worked out on paper) and must give the same answers state
 // by state; FCL on the URDF scene's geometry must agree too.
-#include "src/error.h"
-#include "src/kinematics.h"
-#include "src/motion_bound.h"
-#include "src/plan.h"
-#include "src/robot_loader.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
-#include "support/fcl_reference.h"
+#include "src/base/error.h"
+#include "src/scene/kinematics.h"
+#include "src/geometry/motion_bound.h"
+#include "src/scene/plan.h"
+#include "src/scene/robot_loader.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
+#include "bench/fcl_peer/fcl_peer.h"
 #include "foundation/fixtures.h"
 
 #include <gtest/gtest.h>
@@ -224,7 +224,7 @@ TEST(RobotLoader, FclAgreesOnTheUrdfGeometry) {
   const Checker checker(s, 1);
   std::vector<const Mesh*> meshes;
   for (const Part& p : s.parts) meshes.push_back(&p.mesh);
-  const testing::FclReference fcl(s, meshes, checker.pairs());
+  const reference::FclPeer fcl(s, meshes, checker.pairs());
   std::mt19937_64 rng(2019);
   int collisions = 0;
   for (int i = 0; i < 800; ++i) {

@@ -6,7 +6,7 @@
 // library does not.
 #pragma once
 
-#include "src/scene.h"
+#include "src/scene/scene.h"
 
 #include <string>
 

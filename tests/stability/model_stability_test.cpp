@@ -8,7 +8,7 @@
 // flags and distances) and through the vertices themselves (flags exact for
 // the translated doubles, distances within 1e-6 m of the near ones); and
 // turned by whole turns in radians about the small box's centre.
-#include "src/collision_model.h"
+#include "src/geometry/collision_model.h"
 #include "stability/exact_reference.h"
 #include "support/fixtures.h"
 #include "support/sanitized.h"

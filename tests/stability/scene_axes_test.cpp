@@ -12,11 +12,11 @@
 //    before the conversion to radians whenever the limit check cannot tell:
 //    k * 360 deg poses exactly like 0 deg, 1e300 deg like its remainder;
 //    angles in radians are used as given (whole turns are not exact there).
-#include "src/error.h"
-#include "src/kinematics.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/base/error.h"
+#include "src/scene/kinematics.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "support/fixtures.h"
 #include "stability/stability_scene.h"
 

@@ -3,9 +3,9 @@
 // exactly on a slab, turning about y through (-10, 0, 0).
 #pragma once
 
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "support/fixtures.h"
 
 #include <string>

@@ -6,7 +6,7 @@
 // meshes.
 #pragma once
 
-#include "src/scene.h"
+#include "src/scene/scene.h"
 
 #include <cstdint>
 #include <utility>

@@ -2,7 +2,7 @@
 // Small scenes written to a temporary folder for end-to-end tests.
 #pragma once
 
-#include "src/scene.h"
+#include "src/scene/scene.h"
 
 #include <filesystem>
 #include <string>

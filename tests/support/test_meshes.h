@@ -2,7 +2,7 @@
 // Small synthetic meshes for geometry tests and measurements.
 #pragma once
 
-#include "src/scene.h"
+#include "src/scene/scene.h"
 
 #include <cstdint>
 

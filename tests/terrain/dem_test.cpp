@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The ESRI ASCII grid reader: header variants, NODATA holes, errors naming
 // the line; the writer round trip; the surface height between samples.
-#include "src/error.h"
-#include "src/terrain.h"
+#include "src/base/error.h"
+#include "src/scene/terrain.h"
 
 #include "tests/support/fixtures.h"
 

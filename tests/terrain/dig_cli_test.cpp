@@ -2,7 +2,7 @@
 // The command line on the default dataset: `plancheck dig` files, the scoop
 // and probe columns of `verify`, report.json's scoop and probe fields, and
 // results that do not depend on the thread count.
-#include "src/terrain.h"
+#include "src/scene/terrain.h"
 
 #include "tests/support/fixtures.h"
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Digging: the template model against closed forms on flat ground, the swept
 // model's conservation and repose, and the default plans' scoops.
-#include "src/dig.h"
-#include "src/heightfield.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
+#include "src/checks/dig.h"
+#include "src/geometry/heightfield.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
 
 #include "tests/support/fixtures.h"
 

@@ -2,8 +2,8 @@
 // The heightfield against the terrain mesh path (a CollisionModel over
 // dem_mesh: same working frame, same kernels, so answers must be equal) and
 // against all-pairs brute force; before and after digs with refit.
-#include "src/heightfield.h"
-#include "src/terrain.h"
+#include "src/geometry/heightfield.h"
+#include "src/scene/terrain.h"
 
 #include "tests/support/brute_force.h"
 #include "tests/support/fixtures.h"

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The terrain as a static part: collision and minimum distance of a moving
 // ball against a bumpy grid with a NODATA hole, against all-pairs brute force.
-#include "src/scene_loader.h"
-#include "src/terrain.h"
-#include "src/verify.h"
-#include "src/kinematics.h"
-#include "src/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/scene/terrain.h"
+#include "src/checks/verify.h"
+#include "src/scene/kinematics.h"
+#include "src/scene/plan.h"
 
 #include "tests/support/brute_force.h"
 #include "tests/support/fixtures.h"

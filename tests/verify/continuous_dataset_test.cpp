@@ -5,10 +5,10 @@
 // too-close states of plan04 and plan07 (ends pushed apart until both are
 // safe, some by large J1 swings) are caught; dense sampling (1,000 exact
 // sub-steps) agrees on the closest segments and on the grazing ones.
-#include "src/continuous.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/checks/continuous.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "support/sanitized.h"
 
 #include <gtest/gtest.h>

@@ -6,11 +6,11 @@
 // --dig-carry the next plan meets the rim too. A dense oracle (2,000 exact
 // sub-steps per segment against a heightfield built afresh from the grid dug
 // through the segment's first state) agrees on random plans.
-#include "src/continuous.h"
-#include "src/dig.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/checks/continuous.h"
+#include "src/checks/dig.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "support/fixtures.h"
 #include "support/sanitized.h"
 

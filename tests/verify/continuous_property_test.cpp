@@ -8,10 +8,10 @@
 // a sample touches or comes closer than the margin. Controls whose written
 // motion goes the long way round and misses the obstacle (where the short
 // way would hit) must not be flagged: no shortest-path "fix".
-#include "src/continuous.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/checks/continuous.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "support/fixtures.h"
 #include "tests/verify/dense_sampling.h"
 

@@ -3,11 +3,11 @@
 // axis (with a telescoping boom and a scale on its chain) past posts. Paths
 // that graze a post between two safe states, fast large-angle swings, and a
 // dense-sampling oracle (2,000 exact sub-steps per segment).
-#include "src/continuous.h"
-#include "src/kinematics.h"
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/checks/continuous.h"
+#include "src/scene/kinematics.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "support/fixtures.h"
 #include "support/sanitized.h"
 #include "tests/verify/dense_sampling.h"

@@ -3,9 +3,9 @@
 // generator designed (datasets/change5/expected.json, computed there with its
 // own kinematics and a brute-force distance): verdicts, first violations, the
 // exact sets of colliding, too-close and out-of-limits states.
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -5,9 +5,9 @@
 // the samples and the motion bound between neighbours.
 #pragma once
 
-#include "src/continuous.h"
-#include "src/plan.h"
-#include "src/verify.h"
+#include "src/checks/continuous.h"
+#include "src/scene/plan.h"
+#include "src/checks/verify.h"
 
 #include <algorithm>
 #include <limits>

@@ -5,11 +5,11 @@
 // Also the search's starting points: a plan's states checked in order, each
 // seeded by the one before (or from cold, by the coarse pass), and arbitrary
 // seeds, give what a cold check gives, to within the tie tolerance.
-#include "src/plan.h"
-#include "src/scene_loader.h"
-#include "src/terrain.h"
-#include "src/verify.h"
-#include "support/fcl_reference.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/scene/terrain.h"
+#include "src/checks/verify.h"
+#include "bench/fcl_peer/fcl_peer.h"
 #include "support/sanitized.h"
 
 #include <gtest/gtest.h>
@@ -28,17 +28,17 @@ struct Fixture {
   Scene scene;
   std::unique_ptr<Checker> checker;
   Mesh terrain;
-  std::unique_ptr<testing::FclReference> fcl;
+  std::unique_ptr<reference::FclPeer> fcl;
 
   Fixture() : scene(load_scene(kScene)) {
     checker = std::make_unique<Checker>(scene);
     std::vector<const Mesh*> meshes;
     for (const Part& p : scene.parts) meshes.push_back(&p.mesh);
     if (scene.terrain && scene.terrain->collide) {
-      terrain = dem_mesh(load_dem(scene.terrain->dem, scene.length_scale), scene.terrain->origin);
+      terrain = dem_mesh(*scene.terrain->grid, scene.terrain->origin);
       meshes.push_back(&terrain);
     }
-    fcl = std::make_unique<testing::FclReference>(scene, meshes, checker->pairs());
+    fcl = std::make_unique<reference::FclPeer>(scene, meshes, checker->pairs());
   }
 };
 

@@ -2,8 +2,8 @@
 // Static triangles beyond every moving part's reach are left out at build
 // time: the count is reported, results do not change, and contact triangle
 // indices still name the scene mesh's triangles.
-#include "src/scene_loader.h"
-#include "src/verify.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
 #include "support/fixtures.h"
 
 #include <gtest/gtest.h>

@@ -3,10 +3,10 @@
 // Debian's dart-doc, assembled by this fixture into one scene (KR5 links
 // static in a row, WAM links moving over them on free translations and
 // rotations), checked state by state against FCL 0.7.
-#include "src/model_loader.h"
-#include "src/scene_loader.h"
-#include "src/verify.h"
-#include "support/fcl_reference.h"
+#include "src/scene/model_loader.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
+#include "bench/fcl_peer/fcl_peer.h"
 #include "support/fixtures.h"
 
 #include <gtest/gtest.h>
@@ -64,7 +64,7 @@ TEST(RealMeshes, Kr5AndWamLinksAgreeWithFcl) {
   const Checker checker(scene);
   std::vector<const Mesh*> meshes;
   for (const Part& p : scene.parts) meshes.push_back(&p.mesh);
-  const testing::FclReference fcl(scene, meshes, checker.pairs());
+  const reference::FclPeer fcl(scene, meshes, checker.pairs());
 
   std::mt19937_64 rng(650);
   auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * static_cast<double>(rng() >> 11) * 0x1.0p-53; };

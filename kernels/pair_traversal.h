@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: MIT
+// The one descent over pairs of bounding-volume nodes, written once for every
+// pair query: part vs part (two BVHs) and part vs terrain (a BVH and the
+// heightfield's block pyramid), for collision and for distance. What happens
+// at a node pair (cull, bound, split) and at a leaf pair (exact kernels) is
+// the caller's, given as a query object; the order in which pairs are visited
+// is this file's, so every query walks the same way.
+//
+// Depth first on an explicit stack that the caller owns and reuses (a
+// thread_local vector), so the hot loop does not allocate once the stack has
+// grown to the tree depth. No I/O, no threads, no exceptions.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+namespace plancheck {
+
+// Most children a split yields (two for a binary BVH node, four for a
+// pyramid block).
+inline constexpr int kMaxPairChildren = 4;
+
+// Overlap descent: stops at the first leaf pair that asks to stop.
+// The query Q provides
+//   using Pair;                          a node pair, trivially copyable
+//   using Cull;                          what the cull test leaves for split()
+//   void visited();                      counts a popped pair
+//   bool disjoint(const Pair&, Cull&);   true: proven apart, the pair is dropped
+//   bool leaf_pair(const Pair&);         both sides are leaves
+//   bool leaves(const Pair&);            exact tests; false: stop the descent
+//   int split(const Pair&, const Cull&, Pair* kids);  children, first visited first
+template <class Q>
+void overlap_descent(Q& q, std::vector<typename Q::Pair>& stack, const typename Q::Pair& root) {
+  using Pair = typename Q::Pair;
+  stack.clear();
+  stack.push_back(root);
+  while (!stack.empty()) {
+    const Pair p = stack.back();
+    stack.pop_back();
+    q.visited();
+    typename Q::Cull cull;
+    if (q.disjoint(p, cull)) continue;
+    if (q.leaf_pair(p)) {
+      if (!q.leaves(p)) return;
+      continue;
+    }
+    Pair kids[kMaxPairChildren];
+    const int n = q.split(p, cull, kids);
+    for (int k = n - 1; k >= 0; --k) stack.push_back(kids[k]);
+  }
+}
+
+// Items ordered farthest first by key (insertion sort), so the nearest is
+// pushed last and popped first. At most four items; std::sort on such a
+// small array trips GCC 12's -Warray-bounds.
+template <class T, class Key>
+void farthest_first(T* items, int n, Key key) noexcept {
+  for (int i = 1; i < n; ++i)
+    for (int j = i; j > 0 && key(items[j - 1]) < key(items[j]); --j) std::swap(items[j - 1], items[j]);
+}
+
+// Distance descent, nearest child first, pruned by the query's current
+// bound: a pair is expanded only while its squared lower bound (Pair::lower2)
+// is below q.best2(), which the leaves lower as they find closer pairs.
+// The query Q provides
+//   using Pair;                          a node pair with a double lower2
+//   double best2() const;                the current pruning bound, squared
+//   void visited();                      counts an expanded pair
+//   bool leaf_pair(const Pair&);         both sides are leaves
+//   bool leaves(const Pair&);            exact kernels; false: nothing can beat
+//                                        the best any more, stop
+//   int split(const Pair&, Pair* kids);  children with their lower2, any order
+template <class Q>
+void distance_descent(Q& q, std::vector<typename Q::Pair>& stack, const typename Q::Pair& root) {
+  using Pair = typename Q::Pair;
+  stack.clear();
+  stack.push_back(root);
+  while (!stack.empty()) {
+    const Pair p = stack.back();
+    stack.pop_back();
+    if (!(p.lower2 < q.best2())) continue;
+    q.visited();
+    if (q.leaf_pair(p)) {
+      if (!q.leaves(p)) return;
+      continue;
+    }
+    Pair kids[kMaxPairChildren];
+    const int n = q.split(p, kids);
+    // Closest pair on top of the stack: visited first, it tightens the bound.
+    farthest_first(kids, n, [](const Pair& c) { return c.lower2; });
+    for (int k = 0; k < n; ++k)
+      if (kids[k].lower2 < q.best2()) stack.push_back(kids[k]);
+  }
+}
+
+}  // namespace plancheck

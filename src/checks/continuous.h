@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: MIT
+// verify --continuous: certifies the motion between consecutive states, which
+// the contract defines as linear in driving-parameter space, by conservative
+// advancement (Schwarzer, Saha and Latombe 2005) with adaptive bisection.
+//
+// On a segment [state s, state s + 1] (closed: both states included), with D
+// the exact minimum distance over the checked pairs and m the safety margin:
+//  * Never a false safe. If some configuration on the segment has D < m (a
+//    collision included), the segment is a violation; if parts touch
+//    anywhere on it, it is a collision.
+//  * Clearance tolerance. A clearance violation is reported only with a
+//    witness: a configuration on the segment whose exact D < m + tolerance.
+//    A segment whose true minimum is at least m + tolerance is never flagged.
+//  * Collision tolerance. A collision is reported with a witness that
+//    intersects (exact test), or one whose exact D < contact_tolerance that
+//    could not be resolved further (a near miss that close counts as contact).
+//  * lower_bound <= true minimum over the segment <= min_sampled. On a safe
+//    segment lower_bound >= m (certified); it is a proof, not an estimate, and
+//    is loose where the segment is far from the margin.
+// Results do not depend on the thread count.
+#pragma once
+
+#include "src/geometry/motion_bound.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene.h"
+#include "src/checks/verify.h"
+
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+namespace plancheck {
+
+struct ContinuousOptions {
+  // Clearance witness tolerance (m): a violation needs a configuration with
+  // exact distance below margin + tolerance. Must exceed kDistanceTolerance.
+  double tolerance = 1e-5;
+  // Contact tolerance (m): a configuration closer than this, where no exact
+  // intersection was found, is reported as a collision. Must exceed kDistanceTolerance.
+  double contact_tolerance = 1e-7;
+  // Exact checks per segment before it is given up on and reported as a
+  // violation (unresolved, conservative): a guard against pathological input.
+  std::size_t max_steps = 200000;
+  int threads = 0;  // 0: all hardware threads
+  // Digging scenes: as VerifyOptions::dig_carry of the verify_plans run
+  // whose results verify_segments extends (the terrain each segment sees).
+  bool dig_carry = false;
+};
+
+// Segment checks on one Checker; immutable, shared by threads.
+class SegmentChecker {
+ public:
+  SegmentChecker(const Checker& checker, const Scene& scene, const ContinuousOptions& options);
+
+  // Checks the segment from qa to qb whose end states were checked as sa and
+  // sb (Checker::check_state with distances). Thread-safe.
+  //
+  // terrain (digging scenes): the terrain as it stands during the motion,
+  // dug through qa's state; sa must have been checked against it, as the
+  // dig pass does (check_state_without_terrain, then check_terrain). Every
+  // configuration after qa is checked against it, its terrain pairs with
+  // check_terrain; qb too unless sb_on_terrain says sb was (qb's own dig
+  // changed nothing), since sb shows the terrain after qb's dig and the
+  // motion reaches qb before that dig. The segment is then certified
+  // against `terrain` up to and including qb; qb's state result stays its
+  // own. nullptr: check_state's undisturbed terrain throughout.
+  SegmentResult check(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
+                      const StateResult& sb, const Heightfield* terrain = nullptr,
+                      bool sb_on_terrain = false) const;
+
+  // Upper bound (m) on how much any checked pair's distance can change while
+  // the parameters go linearly from qa to qb: the largest sum of the two
+  // parts' motion bounds over the checked pairs.
+  double pair_bound(const std::vector<double>& qa, const std::vector<double>& qb) const;
+
+  const ContinuousOptions& options() const { return options_; }
+
+ private:
+  const Checker& checker_;
+  MotionBound bound_;
+  std::vector<std::pair<int, int>> pairs_;
+  std::vector<int> moving_;  // parts of some pair that have a chain
+  double margin_;
+  ContinuousOptions options_;
+};
+
+// Fills results[p].segments for every plan (results from verify_plans) and
+// merges the first violation between states into each plan's verdict: the
+// order is state s's own violation, then segment s, then state s + 1.
+// Digging scenes whose states saw the dug terrain (the dig pass ran:
+// results[p].dig is set and Checker::terrain_is_dug()): segment s is checked
+// against the terrain as dug through state s (and through the earlier plans
+// with options.dig_carry, which must match the verify_plans run), walked
+// again in the dig pass's order (dig_along_plans); only those scenes pay for
+// it. Segments that see the same terrain are checked in parallel.
+void verify_segments(const Checker& checker, const Scene& scene, const std::vector<Plan>& plans,
+                     std::vector<PlanResult>& results, const ContinuousOptions& options);
+
+}  // namespace plancheck

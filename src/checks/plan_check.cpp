@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+// Plan orchestration and verdicts: verify_plans shards the plans' states
+// over threads (each state checked by the Checker, verify.cpp), runs the
+// dig and probe passes (regolith.cpp), then judges each state and plan.
+// Reports are assembled from these results in src/output/.
+#include "src/checks/verify.h"
+
+#include "src/base/parallel.h"
+#include "src/base/progress.h"
+
+#include <algorithm>
+#include <chrono>
+#include <numeric>
+
+namespace plancheck {
+
+Verdict state_verdict(const StateResult& st, double margin) {
+  if (st.collision) return Verdict::kCollision;
+  // Below the margin, or too close to it to settle in double: a violation.
+  if (margin > 0.0 && st.part_a >= 0 && st.min_distance < margin + st.distance_tolerance) return Verdict::kClearance;
+  if (st.limit_action >= 0) return Verdict::kLimits;
+  return Verdict::kSafe;
+}
+
+const char* verdict_name(Verdict v) {
+  switch (v) {
+    case Verdict::kSafe: return "safe";
+    case Verdict::kCollision: return "collision";
+    case Verdict::kClearance: return "clearance";
+    case Verdict::kLimits: return "limits";
+    case Verdict::kTarget: return "target";
+  }
+  return "?";
+}
+
+std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
+                                     const std::vector<Plan>& plans, const VerifyOptions& options) {
+  std::vector<PlanResult> results(plans.size());
+  std::vector<std::pair<std::size_t, std::size_t>> items;  // (plan, state)
+  std::vector<std::vector<double>> state_seconds(plans.size());
+  for (std::size_t p = 0; p < plans.size(); ++p) {
+    results[p].plan = &plans[p];
+    results[p].states.resize(plans[p].states.size());
+    state_seconds[p].resize(plans[p].states.size());
+    for (std::size_t s = 0; s < plans[p].states.size(); ++s) items.emplace_back(p, s);
+  }
+
+  // States are independent: shard them; each writes only its own slot.
+  // Within a run of kRun items a plan's states go in order, each seeding the
+  // next (coherence). Runs are fixed blocks of the item list, so which state
+  // seeds which, and hence which of several equally close pairs is
+  // reported, does not depend on the thread count.
+  constexpr std::size_t kRun = 16;
+  const std::size_t runs = (items.size() + kRun - 1) / kRun;
+  // A digging scene's terrain pairs wait for the dig pass (regolith.cpp),
+  // which checks each state against the terrain as dug through that state.
+  const bool terrain_later = options.regolith && checker.terrain_is_dug();
+  parallel_for(runs, options.threads, 1, [&](std::size_t run_begin, std::size_t run_end, int) {
+    StateSeed seed;
+    for (std::size_t i = run_begin * kRun; i < std::min(items.size(), run_end * kRun); ++i) {
+      const auto [p, s] = items[i];
+      if (i % kRun == 0 || items[i - 1].first != p) seed = StateSeed{};
+      const auto t0 = std::chrono::steady_clock::now();
+      if (terrain_later)
+        checker.check_state_without_terrain(plans[p].states[s], results[p].states[s], CheckRequest{}, &seed);
+      else
+        checker.check_state(plans[p].states[s], results[p].states[s], CheckRequest{}, &seed);
+      state_seconds[p][s] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    if (options.progress) options.progress->add(std::min(items.size(), run_end * kRun) - run_begin * kRun);
+  });
+
+  // Digging (with the terrain pairs of digging scenes) and probes, before
+  // the verdicts: the dug terrain's contacts and distances are part of them.
+  if (options.regolith) dig_and_probe(checker, plans, results, options, state_seconds);
+
+  const double margin = scene.safety_margin;
+  for (std::size_t p = 0; p < plans.size(); ++p) {
+    PlanResult& r = results[p];
+    r.seconds = std::accumulate(state_seconds[p].begin(), state_seconds[p].end(), 0.0);
+    for (std::size_t s = 0; s < r.states.size(); ++s) {
+      const StateResult& st = r.states[s];
+      if (st.part_a >= 0 && st.min_distance < r.min_distance) {
+        r.min_distance = st.min_distance;
+        r.min_distance_state = s;
+        r.min_part_a = st.part_a;
+        r.min_part_b = st.part_b;
+        r.min_point_a = st.point_a;
+        r.min_point_b = st.point_b;
+      }
+      if (r.first_violation) continue;
+      Violation v;
+      v.state = s;
+      v.kind = state_verdict(st, margin);
+      if (v.kind == Verdict::kSafe) continue;
+      if (v.kind == Verdict::kCollision) {
+        v.part_a = st.contacts[0].part_a;
+        v.part_b = st.contacts[0].part_b;
+      } else if (v.kind == Verdict::kClearance) {
+        v.part_a = st.part_a;
+        v.part_b = st.part_b;
+      } else {
+        v.action = st.limit_action;
+      }
+      r.first_violation = v;
+    }
+    const Plan& plan = plans[p];
+    if (plan.target && !plan.states.empty()) {
+      const Vec3 reached = checker.target_point(plan.states.back());
+      r.target_error = (reached - *plan.target).norm();
+      if (!r.first_violation && *r.target_error > plan.tolerance) {
+        Violation v;
+        v.state = plan.states.size() - 1;
+        v.kind = Verdict::kTarget;
+        r.first_violation = v;
+      }
+    }
+    r.verdict = r.first_violation ? r.first_violation->kind : Verdict::kSafe;
+  }
+  return results;
+}
+
+}  // namespace plancheck

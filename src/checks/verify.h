@@ -1,0 +1,303 @@
+// SPDX-License-Identifier: MIT
+// Plan verification: every state of every plan against every checked pair.
+// Collision is exact; the minimum distance is computed in double with the
+// closest points; a distance that falls within kDistanceTolerance of the
+// safety margin cannot be settled in double and is reported as a violation.
+#pragma once
+
+#include "src/geometry/collision_model.h"
+#include "src/checks/dig.h"
+#include "src/geometry/heightfield.h"
+#include "src/geometry/motion_bound.h"
+#include "src/checks/probes.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene.h"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace plancheck {
+
+// Relative error of the double distance routines (closest points of two
+// triangles in a relative frame) is a few ulps of the coordinates; a margin
+// comparison closer than this (metres) is treated as a violation.
+inline constexpr double kDistanceTolerance = 1e-9;
+
+// Distance searches skip pairs whose lower bound is within this (m) of the
+// best so far (DistanceRequest::abs_tolerance), so a reported minimum is at
+// most this much above the exact minimum over triangle pairs: a thousand
+// times below kDistanceTolerance, so no margin decision can change, and it
+// halves the check time on models with parallel faces tied at the minimum.
+inline constexpr double kDistanceTieTolerance = 1e-12;
+
+// Most colliding states listed per plan, and triangle pairs per part pair
+// (the contract's report limits).
+inline constexpr std::size_t kMaxCollisionStatesListed = 100;
+inline constexpr std::size_t kMaxTrianglePairsListed = 16;
+
+struct PairContact {
+  int part_a = -1;  // index into the checker's part list (Scene::parts, then terrain)
+  int part_b = -1;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> triangles;
+};
+
+// What one state shows.
+struct StateResult {
+  bool collision = false;
+  std::vector<PairContact> contacts;  // colliding pairs (empty unless collision)
+  double min_distance = std::numeric_limits<double>::infinity();  // m; 0 when colliding
+  int part_a = -1;                    // pair at the minimum distance (-1: no checked pair)
+  int part_b = -1;
+  Vec3 point_a = Vec3::Zero();        // closest points, reference frame (m)
+  Vec3 point_b = Vec3::Zero();
+  int limit_action = -1;              // first action outside its limits, or -1
+  // How close to the margin min_distance may be and still not settle it (m):
+  // kDistanceTolerance, or more for coordinates so large that the double
+  // distance's error bound (16 eps times the largest coordinate, see
+  // tests/stability) exceeds it: 64 eps times the largest coordinate of the
+  // closest pair's boxes, in the world and in their own frames.
+  double distance_tolerance = kDistanceTolerance;
+};
+
+// What the motion from state s to state s + 1 shows (verify --continuous,
+// src/checks/continuous.h). The segment is closed: it includes both states.
+struct SegmentResult {
+  bool checked = false;    // false on a plan's last state (no segment) or without --continuous
+  bool collision = false;  // parts touch somewhere on it (or come within ContinuousOptions::contact_tolerance)
+  bool clearance = false;  // some configuration on it is closer than margin + ContinuousOptions::tolerance
+  // Certified: no configuration on the segment is closer than this (m); 0 on collision.
+  double lower_bound = std::numeric_limits<double>::infinity();
+  // The smallest exact distance at the configurations checked (m), an upper
+  // bound on the segment's minimum; its pair below.
+  double min_sampled = std::numeric_limits<double>::infinity();
+  int part_a = -1;         // pair of the first violation witness, else at min_sampled
+  int part_b = -1;
+  double witness_t = -1.0;  // first violation witness as a fraction of the segment; -1: none
+  std::size_t steps = 0;    // exact configuration checks run on the segment (its states not counted)
+  bool unresolved = false;  // the step budget ran out: reported as a violation without a witness
+};
+
+enum class Verdict { kSafe, kCollision, kClearance, kLimits, kTarget };
+const char* verdict_name(Verdict v);
+
+struct StateResult;
+// What one state shows on its own, ranked as verify reports it: collision,
+// then clearance (a distance below the margin, or within the state's
+// distance_tolerance of it: too close to settle in double), then limits;
+// kSafe otherwise.
+Verdict state_verdict(const StateResult& state, double safety_margin);
+
+struct Violation {
+  std::size_t state = 0;
+  Verdict kind = Verdict::kSafe;
+  int part_a = -1;  // for collision/clearance
+  int part_b = -1;
+  int action = -1;  // for limits
+  bool between = false;
+};
+
+struct PlanResult {
+  const Plan* plan = nullptr;
+  std::vector<StateResult> states;
+  Verdict verdict = Verdict::kSafe;
+  std::optional<Violation> first_violation;
+  double min_distance = std::numeric_limits<double>::infinity();  // m
+  std::size_t min_distance_state = 0;
+  int min_part_a = -1;
+  int min_part_b = -1;
+  Vec3 min_point_a = Vec3::Zero();
+  Vec3 min_point_b = Vec3::Zero();
+  std::optional<double> target_error;  // m
+  double seconds = 0.0;                // summed over the states' check time
+  // Scooping (scenes with a scoop block): per state, and the plan's summary.
+  std::vector<DigStep> dig_steps;
+  std::optional<DigSummary> dig;
+  // Probes (scenes with probes): probes[s][p]; a reading's hit indexes probe_targets.
+  std::vector<std::vector<ProbeReading>> probes;
+  std::vector<std::string> probe_targets;
+  // --continuous: segments[s] is the motion from state s to s + 1 (empty otherwise).
+  std::vector<SegmentResult> segments;
+};
+
+// What one state's check computes (the bench also times the parts alone).
+struct CheckRequest {
+  bool distance = true;        // false: collision only; min_distance stays infinity
+  // Relative distance tolerance (like FCL's rel_err): the minimum distance
+  // reported is at most (1 + rel_tolerance) times the exact one. 0: exact.
+  // Only the bench uses it; verify always checks exactly.
+  double rel_tolerance = 0.0;
+  // Intersecting triangle pairs listed per colliding part pair; 0: the
+  // first one found only, which lets the search stop there.
+  std::size_t max_triangle_pairs = kMaxTrianglePairsListed;
+  // false: stop at the first colliding part pair (in checked-pair order), so
+  // contacts lists that one only. The verdict is the same.
+  bool all_contacts = true;
+};
+
+// Coherence between consecutive states of a plan: the previous state's
+// closest pair (checked pair and triangle slots) seeds the next state's
+// distance search with a tight upper bound, and the separations the previous
+// state proved carry over: a pair whose proven distance exceeds how far its
+// parts can have moved since (MotionBound) cannot touch, so its exact
+// collision test is skipped, and its distance search starts from the bound.
+// Verdicts and distances never depend on it.
+struct StateSeed {
+  int pair = -1;  // index into the checked pairs; -1: none
+  std::uint32_t slot_a = 0, slot_b = 0;
+  // Per checked pair, a proven lower bound (m) on its distance at the
+  // parameters `at` (as written); empty: nothing cached.
+  std::vector<double> separation;
+  std::vector<double> at;
+};
+
+class Progress;
+
+struct VerifyOptions {
+  int threads = 0;         // 0: all hardware threads
+  bool dig_carry = false;  // the terrain dug by one plan is the next plan's start
+  bool regolith = true;    // run the digging and probe passes when the scene has them
+  Progress* progress = nullptr;  // counts the states checked (optional; last, so {threads, carry} still reads)
+};
+
+// Collision structures of a scene, built once; immutable and shared by threads.
+class Checker {
+ public:
+  explicit Checker(const Scene& scene, int threads = 0);
+
+  // Names of the checked parts: Scene::parts, then "terrain" when present.
+  const std::string& part_name(int index) const { return names_[static_cast<std::size_t>(index)]; }
+  std::size_t part_count() const { return names_.size(); }
+  std::size_t triangle_count() const;
+  std::size_t memory_bytes() const;
+  // Static triangles left out at build time: beyond the reach of every
+  // moving part they are checked against (see the constructor), or in static
+  // parts no checked pair uses. Such a triangle can neither touch a moving
+  // part nor be closer to one than some kept pair is in every pose.
+  std::size_t left_out_static_triangles() const { return left_out_; }
+
+  // The checked pairs as indices into the part list (the moving part first).
+  std::vector<std::pair<int, int>> pairs() const {
+    std::vector<std::pair<int, int>> out;
+    for (const PairRef& p : pairs_) out.emplace_back(p.a, p.b);
+    return out;
+  }
+
+  // Checks one configuration (a full parameter vector, as written) against every
+  // checked pair, the terrain pairs against the undisturbed terrain.
+  // seed (optional, in/out): read as the hint, then set to this state's
+  // closest pair for the next state.
+  void check_state(const std::vector<double>& params, StateResult& out,
+                   const CheckRequest& request = {}, StateSeed* seed = nullptr) const {
+    check_pairs(params, out, request, seed, terrain_.get(), kAllPairs);
+  }
+
+  // The same without the terrain pairs; check_terrain() adds them later
+  // against a dug terrain. Together they give check_state's verdict inputs.
+  void check_state_without_terrain(const std::vector<double>& params, StateResult& out,
+                                   const CheckRequest& request = {}, StateSeed* seed = nullptr) const {
+    check_pairs(params, out, request, seed, nullptr, kNonTerrainPairs);
+  }
+
+  // Checks the terrain pairs of one state against `terrain` (the undisturbed
+  // terrain() or a copy of it refit where digging changed it) and merges
+  // them into `out`, which holds that state's other pairs: contacts are
+  // appended in pair order (so the first contact is the same as check_state
+  // would list), and the minimum distance moves to a terrain pair only when
+  // strictly closer (or when the terrain contact is the state's first). seed
+  // as in check_state, for the terrain pairs alone.
+  void check_terrain(const std::vector<double>& params, const Heightfield& terrain, StateResult& out,
+                     StateSeed* seed = nullptr) const;
+
+  // The terrain as a heightfield (nullptr: no colliding terrain) and its
+  // index in the part list.
+  const Heightfield* terrain() const { return terrain_.get(); }
+  int terrain_index() const { return terrain_index_; }
+  // Whether verify_plans checks the terrain pairs against the dug terrain:
+  // the scene digs (scoop and terrain) and some pair involves the terrain.
+  bool terrain_is_dug() const { return digger_ && terrain_ && has_terrain_pairs_; }
+
+  // The pairs in contact (touching or intersecting) at the reference pose.
+  std::vector<PairContact> reference_contacts() const;
+
+  // The point a plan's target refers to, posed: the scoop's bottom point, or
+  // without a scoop the origin of the last action's node.
+  Vec3 target_point(const std::vector<double>& params) const;
+
+ private:
+  struct PairRef {
+    int a, b;
+    bool empty = false;  // a part whose triangles were all left out: never checked
+  };
+  enum PairSet { kAllPairs, kNonTerrainPairs, kTerrainPairs };
+  // The pair loop of check_state over `which` pairs, terrain pairs against
+  // `terrain`; a distance search starts below `bound` (m).
+  void check_pairs(const std::vector<double>& params, StateResult& out, const CheckRequest& request,
+                   StateSeed* seed, const Heightfield* terrain, PairSet which,
+                   double bound = std::numeric_limits<double>::infinity()) const;
+  // Replaces meshes[i] of static parts by their reachable triangles (held in
+  // storage), fills kept_; returns how many triangles were left out.
+  std::size_t prune_static(const Scene& scene, std::vector<const Mesh*>& meshes,
+                           std::vector<Mesh>& storage);
+  const Scene& scene_;
+  std::vector<std::string> names_;
+  std::vector<CollisionModel> models_;  // one per scene part (the terrain is terrain_)
+  std::unique_ptr<const Heightfield> terrain_;  // the undisturbed terrain, when it collides
+  int terrain_index_ = -1;                      // its index in names_
+  bool has_terrain_pairs_ = false;
+  std::vector<int> chain_of_;           // chain id per checked part, -1 when static
+  std::vector<std::pair<Vec3, Vec3>> local_boxes_;  // (lo, hi) per part, its own frame
+  std::vector<std::pair<Vec3, Vec3>> static_boxes_;  // posed (identity) boxes of static parts, once
+  std::vector<PairRef> pairs_;
+  // Per checked part: model triangle index -> mesh triangle index, when
+  // triangles were left out (empty: the identity).
+  std::vector<std::vector<std::uint32_t>> kept_;
+  std::size_t left_out_ = 0;
+  MotionBound motion_;  // how far parts can move between two states (cached separations)
+  // Built once with the collision structures, only when the scene needs them.
+  std::unique_ptr<const Digger> digger_;        // scoop and terrain
+  std::unique_ptr<const ProbeCaster> probes_;   // probes (an Embree scene)
+
+ public:
+  const Digger* digger() const { return digger_.get(); }
+  const ProbeCaster* probe_caster() const { return probes_.get(); }
+};
+
+// The scoop and probe passes (src/checks/regolith.cpp): digging runs sequentially
+// along each plan (plans in parallel unless options.dig_carry), so results do
+// not depend on the thread count. In a digging scene, state s of a plan sees
+// the terrain as dug by states 0..s of that plan (its own dig included; with
+// dig_carry, after the earlier plans' digs too): its terrain pairs are
+// checked there (Checker::check_terrain, adding the time to
+// state_seconds[p][s]) and its probes cast there. Without digging, probes see
+// the undisturbed terrain.
+void dig_and_probe(const Checker& checker, const std::vector<Plan>& plans, std::vector<PlanResult>& results,
+                   const VerifyOptions& options, std::vector<std::vector<double>>& state_seconds);
+
+// What dig_along_plans reports, per plan p (each callback optional). A plan's
+// calls come in state order on one thread; different plans' calls may run
+// concurrently (not with dig_carry).
+struct DigWalk {
+  // State s dug `changed` into the grid; the field (when there is one) still
+  // shows the terrain through state s - 1 (the plan's start for s = 0).
+  std::function<void(std::size_t p, std::size_t s, const SampleRect& changed)> before_refit;
+  // The field now shows the terrain dug through state s (nullptr: no field).
+  std::function<void(std::size_t p, std::size_t s, Heightfield* field)> after_state;
+  std::function<void(std::size_t p, DigSummary summary, std::vector<DigStep>& steps)> after_plan;
+};
+
+// The dig walk of dig_and_probe: each plan dug state by state from the
+// undisturbed grid (with dig_carry, from where the previous plan left it,
+// plans in order; else plans in parallel), a copy of `base` (nullptr: none)
+// refit over each state's changed samples. Deterministic, so two walks show
+// the same terrains at the same states.
+void dig_along_plans(const Digger& digger, const Heightfield* base, const std::vector<Plan>& plans,
+                     bool dig_carry, int threads, const DigWalk& walk);
+
+std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
+                                     const std::vector<Plan>& plans, const VerifyOptions& options);
+
+}  // namespace plancheck

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// The bodies of the command-line subcommands; main.cpp only parses words.
+#pragma once
+
+#include "src/scene/scene_loader.h"
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace plancheck {
+
+struct VerifyArgs {
+  std::filesystem::path scene;
+  SceneOptions scene_options;  // --srdf, --package
+  std::vector<std::filesystem::path> plans;
+  std::filesystem::path out = "plancheck-out";
+  int threads = 0;           // 0: all hardware threads
+  bool json = false;         // stdout: report.json instead of the plan lines
+  bool dig_carry = false;    // the terrain dug by one plan is the next plan's start
+  bool continuous = false;   // also certify the motion between consecutive states (src/checks/continuous.h)
+  double continuous_tolerance = 0.0;  // clearance witness tolerance, scene length_unit; 0: the default
+  bool html = false;         // also DIR/report.html (src/output/report_html.h)
+  bool quiet = false;        // no progress on stderr
+};
+
+struct DigArgs {
+  std::filesystem::path scene;
+  SceneOptions scene_options;  // --srdf, --package
+  std::filesystem::path plan;
+  std::filesystem::path out = "plancheck-dig";
+  bool quiet = false;        // no progress on stderr
+};
+
+// Exit status per the contract: 0 all plans safe, 1 any violation. Input
+// errors are thrown as InputError (main turns them into status 2).
+int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err);
+
+// Digs one plan and writes DIR/before.asc, DIR/after.asc and DIR/dig.png
+// (src/cli/dig_command.cpp).
+int run_dig(const DigArgs& args, std::ostream& out, std::ostream& err);
+
+}  // namespace plancheck

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: MIT
+// The plancheck command line (contract: shared/spec/plan-and-report-format.md).
+// Bad input of any kind ends in one "plancheck: ..." line on stderr and exit 2.
+#include "src/cli/bench_command.h"
+#include "src/cli/commands.h"
+#include "src/base/error.h"
+#include "src/scene/scene_loader.h"
+#include "src/output/scene_summary.h"
+#include "src/cli/sweep.h"
+
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+#include <string>
+
+namespace {
+
+constexpr int kExitBadInput = 2;
+
+// `--srdf FILE` and `--package NAME=DIR` on every command that reads a scene
+// (a bare .urdf is a scene too).
+void add_robot_options(CLI::App* cmd, std::string& srdf, std::vector<std::string>& packages) {
+  cmd->add_option("--srdf", srdf, "SRDF of a bare .urdf: its disable_collisions pairs are allowed");
+  cmd->add_option("--package", packages, "NAME=DIR: where package://NAME/ meshes are (repeatable)");
+}
+
+plancheck::SceneOptions scene_options(const std::string& srdf, const std::vector<std::string>& packages) {
+  plancheck::SceneOptions o;
+  o.srdf = srdf;
+  for (const std::string& p : packages) {
+    const std::size_t eq = p.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == p.size())
+      throw plancheck::InputError("--package " + p + ": expected NAME=DIR");
+    o.packages[p.substr(0, eq)] = p.substr(eq + 1);
+  }
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"plancheck: verify robot-arm motion plans against a scene"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("plancheck ") + PLANCHECK_VERSION);  // project(VERSION), src/api/CMakeLists.txt
+
+  std::string scene_file;
+  std::string srdf;
+  std::vector<std::string> packages;
+  CLI::App* scene_cmd = app.add_subcommand("scene", "list parts, actions, checked pairs and reference contacts");
+  scene_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
+  add_robot_options(scene_cmd, srdf, packages);
+
+  plancheck::VerifyArgs verify;
+  std::vector<std::string> plan_files;
+  std::string out_dir = "plancheck-out";
+  CLI::App* verify_cmd = app.add_subcommand("verify", "check every state of every plan; exit 0 all safe, 1 a violation");
+  verify_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
+  add_robot_options(verify_cmd, srdf, packages);
+  verify_cmd->add_option("PLAN", plan_files, "plan files (CSV)")->required();
+  verify_cmd->add_option("--out", out_dir, "folder for report.json and one CSV per plan")->capture_default_str();
+  verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  verify_cmd->add_flag("--json", verify.json, "print report.json on stdout instead of the plan lines");
+  verify_cmd->add_flag("--html", verify.html, "also write DIR/report.html: the plans replayed in 3D, one self-contained file");
+  verify_cmd->add_flag("--quiet", verify.quiet, "no progress or status lines on stderr");
+  verify_cmd->add_flag("--dig-carry", verify.dig_carry, "the terrain dug by one plan is where the next one starts");
+  CLI::Option* continuous = verify_cmd->add_flag("--continuous", verify.continuous,
+                       "also certify the motion between states (joints linear in driving parameters)");
+  verify_cmd
+      ->add_option("--continuous-tolerance", verify.continuous_tolerance,
+                   "clearance witness tolerance between states, in the scene's length unit (default 1e-5 m)")
+      ->check(CLI::PositiveNumber)
+      ->needs(continuous);
+
+  plancheck::DigArgs dig;
+  std::string dig_plan;
+  std::string dig_out = "plancheck-dig";
+  CLI::App* dig_cmd = app.add_subcommand("dig", "dig one plan; write the terrain before/after (ESRI ASCII) and a PNG map");
+  dig_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
+  add_robot_options(dig_cmd, srdf, packages);
+  dig_cmd->add_option("PLAN", dig_plan, "plan file (CSV)")->required();
+  dig_cmd->add_flag("--quiet", dig.quiet, "no progress on stderr");
+  dig_cmd->add_option("--out", dig_out, "folder for before.asc, after.asc and dig.png")->capture_default_str();
+
+  plancheck::SweepArgs sweep;
+  long sweep_steps = 0;
+  std::string sweep_grid;
+  std::string sweep_out = "plancheck-sweep";
+  CLI::App* sweep_cmd = app.add_subcommand(
+      "sweep", "check a grid of configurations: DIR/sweep.csv per configuration, DIR/sweep.json summary");
+  sweep_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
+  add_robot_options(sweep_cmd, srdf, packages);
+  CLI::Option* steps_opt = sweep_cmd->add_option(
+      "--steps", sweep_steps, "values per driving parameter with limits, ends included (default 9)");
+  CLI::Option* grid_opt = sweep_cmd->add_option(
+      "--grid", sweep_grid, "NAME=FROM:TO:STEP,... in plan units; parameters not named keep their reference value");
+  steps_opt->excludes(grid_opt);
+  sweep_cmd->add_option("--out", sweep_out, "folder for sweep.csv and sweep.json")->capture_default_str();
+  sweep_cmd->add_flag("--html", sweep.html, "also write DIR/sweep.html: verdict heat maps, the arm, safe targets; one self-contained file");
+  sweep_cmd->add_flag("--quiet", sweep.quiet, "no progress or status lines on stderr");
+  sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+
+  CLI::App* bench_cmd = app.add_subcommand(
+      "bench", "reproduce the paper's Table 3 beside FCL: SCENE [PLAN...] [--json FILE] [--fcl] (runs plancheck_bench)");
+  bench_cmd->allow_extras();
+  bench_cmd->prefix_command();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help and the like
+    std::cerr << "plancheck: " << e.what() << " (run plancheck --help)\n";
+    return kExitBadInput;
+  }
+
+  // --quiet: status and progress go nowhere (errors still reach std::cerr).
+  std::ostream quiet_err(nullptr);
+  try {
+    if (scene_cmd->parsed()) {
+      const plancheck::Scene scene = plancheck::load_scene(scene_file, scene_options(srdf, packages));
+      plancheck::print_scene_summary(scene, std::cout);
+    } else if (verify_cmd->parsed()) {
+      verify.scene = scene_file;
+      verify.scene_options = scene_options(srdf, packages);
+      verify.plans.assign(plan_files.begin(), plan_files.end());
+      verify.out = out_dir;
+      return plancheck::run_verify(verify, std::cout, verify.quiet ? quiet_err : std::cerr);
+    } else if (dig_cmd->parsed()) {
+      dig.scene = scene_file;
+      dig.scene_options = scene_options(srdf, packages);
+      dig.plan = dig_plan;
+      dig.out = dig_out;
+      return plancheck::run_dig(dig, std::cout, dig.quiet ? quiet_err : std::cerr);
+    } else if (sweep_cmd->parsed()) {
+      sweep.scene = scene_file;
+      sweep.scene_options = scene_options(srdf, packages);
+      if (*steps_opt) sweep.steps = sweep_steps;
+      if (*grid_opt) sweep.grid = sweep_grid;
+      sweep.out = sweep_out;
+      return plancheck::run_sweep(sweep, std::cout, sweep.quiet ? quiet_err : std::cerr);
+    } else if (bench_cmd->parsed()) {
+      return plancheck::run_bench(bench_cmd->remaining(), std::cerr);
+    }
+  } catch (const plancheck::InputError& e) {
+    std::cerr << "plancheck: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "plancheck: error: " << e.what() << "\n";
+    return kExitBadInput;
+  }
+  return 0;
+}

@@ -1,0 +1,804 @@
+// SPDX-License-Identifier: MIT
+// Pair queries: BVH-vs-BVH traversal in one working frame, exact triangle
+// overlap at the leaves, Ericson triangle distance with box lower bounds.
+//
+// Culling: when both parts sit rigidly in the working frame (the common case)
+// node pairs are tested with the per-node oriented boxes (15-axis separating
+// axis test; face and centre axes for distance bounds); otherwise with the
+// axis-aligned node boxes mapped into the working frame (Arvo's enclosing
+// box), plus the reverse mapping into b's frame when b's map is rigid. Every
+// test is widened by a margin that covers rounding, so no pair holding
+// touching triangles is culled. Leaf pairs: an exact per-triangle box filter
+// before the overlap kernel; for distance a separating-axis bound on the
+// actual vertices before the distance kernel. distance() first runs the
+// collision traversal (stop at first hit), since distance bounds cannot cull
+// anything among pairs at distance 0.
+//
+// Working frame: a's frame when ta is rigid (b mapped by ta^-1 tb, distances
+// there equal world distances); else b's frame when tb is rigid (roles
+// swapped, results swapped back); else the world frame (both mapped). Only
+// leaf triangles are mapped, never a whole mesh. Collision is decided exactly
+// on the working-frame double coordinates: a's vertices as stored and b's as
+// M v rounded once (identity maps leave coordinates untouched).
+#include "src/geometry/collision_model.h"
+
+#include "kernels/box.h"
+#include "kernels/leaf_bounds.h"
+#include "kernels/tri_distance.h"
+#include "kernels/tri_tri_overlap.h"
+#include "kernels/obb.h"
+#include "kernels/pair_traversal.h"
+#include "src/geometry/bvh.h"
+#include "src/geometry/query_frame.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+namespace plancheck {
+
+CollisionModel::CollisionModel(const Mesh& mesh)
+    : data_(std::make_unique<CollisionModelData>(build_collision_data(mesh))) {}
+CollisionModel::~CollisionModel() = default;
+CollisionModel::CollisionModel(CollisionModel&&) noexcept = default;
+CollisionModel& CollisionModel::operator=(CollisionModel&&) noexcept = default;
+
+std::size_t CollisionModel::triangle_count() const { return data_->triangle_count(); }
+
+std::size_t CollisionModel::memory_bytes() const {
+  return sizeof(CollisionModelData) + data_->bvh.nodes.capacity() * sizeof(BvhNode) +
+         data_->bvh.prim_ids.capacity() * sizeof(std::uint32_t) +
+         data_->vertices.capacity() * sizeof(data_->vertices[0]) +
+         data_->corners.capacity() * sizeof(data_->corners[0]) +
+         data_->obbs.capacity() * sizeof(NodeObb) + data_->soa.capacity() * sizeof(float);
+}
+
+namespace {
+
+// One side of a query: its data, its map into the working frame and the
+// margin that covers rounding of that map.
+struct Side {
+  const CollisionModelData* data = nullptr;
+  bool identity = true;
+  AffineMap map;
+  double margin[3] = {0, 0, 0};
+
+  void set_map(const Affine& t) {
+    identity = t.matrix() == Affine::Identity().matrix();
+    map = to_map(t);
+    for (int r = 0; r < 3; ++r) {
+      double s = std::abs(map.t[r]);
+      // Node boxes are rounded outward to float: allow twice the vertex bound.
+      for (int c = 0; c < 3; ++c) s += map.abs_l[3 * r + c] * 2.0 * data->max_abs[c];
+      margin[r] = identity ? 0.0 : kMarginRel * s + 1e-300;
+    }
+  }
+
+  void box(std::uint32_t node, double* lo, double* hi) const {
+    const BvhNode& n = data->bvh.nodes[node];
+    if (identity)
+      widen_box(n.lo, n.hi, margin, lo, hi);
+    else
+      map_box(map, n.lo, n.hi, margin, lo, hi);
+  }
+
+  // This side for the SIMD leaf prefilters (kernels/leaf_bounds.h).
+  LeafSide leaf_side() const {
+    LeafSide ls;
+    ls.soa = data->soa.data();
+    ls.stride = data->soa_stride;
+    double size = 0.0;
+    for (int r = 0; r < 3; ++r) {
+      double row = identity ? data->max_abs[r] : std::abs(map.t[r]);
+      if (!identity)
+        for (int c = 0; c < 3; ++c) row += map.abs_l[3 * r + c] * data->max_abs[c];
+      size = std::max(size, row);
+    }
+    ls.size = size * (1.0 + 1e-6);
+    if (!identity) {
+      ls.l = map.l;
+      ls.t = map.t;
+    }
+    return ls;
+  }
+
+  // Working-frame coordinates of the triangle in slot s.
+  void triangle(std::uint32_t s, double* out) const {
+    for (int v = 0; v < 3; ++v) {
+      const double* src = data->vertex(s, v);
+      if (identity)
+        std::copy(src, src + 3, out + 3 * v);
+      else
+        map.apply(src, out + 3 * v);
+    }
+  }
+};
+
+struct Setup {
+  Side a, b;
+  bool swapped = false;
+  Affine to_world = Affine::Identity();
+  // Second culling frame: a's boxes mapped into b's own frame, against b's
+  // untouched boxes (the other three face axes of the box-vs-box separating
+  // axis test). Used when b's map is rigid, so distances agree there too.
+  bool reverse = false;
+  AffineMap rev;         // working frame of a -> b's frame (b.map^-1 * a.map)
+  double rev_margin_a[3] = {0, 0, 0};
+  double rev_margin_b[3] = {0, 0, 0};
+
+  // Oriented-box tests, when both parts are placed rigidly in the working
+  // frame (a untouched, b by a rigid map): then b's node boxes stay boxes.
+  bool obb = false;
+  double obb_tol = 0.0;  // b's vertex-mapping rounding (m), added to every gap test
+
+  // Relative placement of b's node box in a's node box frame (Gottschalk's
+  // R and T, kernels/obb.h), the centres' distance and the rounding
+  // tolerance of the gap tests.
+  struct ObbPair {
+    ObbRelative rel;
+    double dist_centres, tol;
+  };
+  // b's node ib in the working frame: its centre, and its axes once asked
+  // for. A traversal step that splits a tests both children against the same
+  // b node, and the ball test and the box test both need the centre, so one
+  // mapping serves them all (the same operations, so the same values).
+  struct MappedB {
+    std::uint32_t node = 0;
+    double cb[3];
+    double bw[9];
+    bool axes = false;
+  };
+  void map_b(std::uint32_t ib, MappedB& mb) const {
+    mb.node = ib;
+    mb.axes = false;
+    b.map.apply(b.data->obbs[ib].center, mb.cb);
+  }
+  void map_b_axes(MappedB& mb) const {
+    if (mb.axes) return;
+    const NodeObb& ob = b.data->obbs[mb.node];
+    const AffineMap& m = b.map;
+    for (int j = 0; j < 3; ++j)  // b's axes in the working frame: rows of (L B^T)^T
+      for (int r = 0; r < 3; ++r)
+        mb.bw[3 * j + r] = m.l[3 * r] * ob.axis[3 * j] + m.l[3 * r + 1] * ob.axis[3 * j + 1] +
+                           m.l[3 * r + 2] * ob.axis[3 * j + 2];
+    mb.axes = true;
+  }
+  void obb_pair(std::uint32_t ia, std::uint32_t ib, ObbPair& p) const {
+    MappedB mb;
+    map_b(ib, mb);
+    obb_pair(ia, mb, p);
+  }
+  void obb_pair(std::uint32_t ia, MappedB& mb, ObbPair& p) const {
+    map_b_axes(mb);
+    const NodeObb& oa = a.data->obbs[ia];
+    const NodeObb& ob = b.data->obbs[mb.node];
+    const double* bw = mb.bw;
+    const double* cb = mb.cb;
+    const double d[3] = {cb[0] - oa.center[0], cb[1] - oa.center[1], cb[2] - oa.center[2]};
+    ObbRelative& q = p.rel;
+    for (int i = 0; i < 3; ++i) {
+      const double* ai = &oa.axis[3 * i];
+      q.t[i] = ai[0] * d[0] + ai[1] * d[1] + ai[2] * d[2];
+      for (int j = 0; j < 3; ++j) {
+        const double* bj = &bw[3 * j];
+        q.r[3 * i + j] = ai[0] * bj[0] + ai[1] * bj[1] + ai[2] * bj[2];
+        // The epsilon keeps near-parallel edge-cross axes from false separation.
+        q.abs_r[3 * i + j] = std::abs(q.r[3 * i + j]) + 1e-12;
+      }
+    }
+    p.dist_centres = std::sqrt(q.t[0] * q.t[0] + q.t[1] * q.t[1] + q.t[2] * q.t[2]);
+    const double ha = oa.half[0] + oa.half[1] + oa.half[2];
+    const double hb = ob.half[0] + ob.half[1] + ob.half[2];
+    p.tol = obb_tol + 1e-12 * (p.dist_centres + ha + hb +
+                               std::abs(oa.center[0]) + std::abs(oa.center[1]) +
+                               std::abs(oa.center[2]) + std::abs(cb[0]) + std::abs(cb[1]) +
+                               std::abs(cb[2]));
+  }
+
+  // True when the node boxes are proven disjoint (kernels/obb.h).
+  bool obb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
+    ObbPair p;
+    obb_pair(ia, ib, p);
+    return plancheck::obb_disjoint(p.rel, a.data->obbs[ia].half, b.data->obbs[ib].half, p.tol);
+  }
+
+  // Distance lower bound of the node boxes (kernels/obb.h).
+  double obb_lower(std::uint32_t ia, MappedB& mb) const {
+    ObbPair p;
+    obb_pair(ia, mb, p);
+    return plancheck::obb_lower(p.rel, p.dist_centres, a.data->obbs[ia].half, b.data->obbs[mb.node].half,
+                                p.tol);
+  }
+
+  double obb_size(std::uint32_t ia, bool side_a) const {
+    const NodeObb& o = side_a ? a.data->obbs[ia] : b.data->obbs[ia];
+    return o.half[0] + o.half[1] + o.half[2];
+  }
+
+  // Squared lower bound from the reverse frame (0 when not in use).
+  double reverse_lower2(std::uint32_t ia, std::uint32_t ib) const {
+    if (!reverse) return 0.0;
+    double alo[3], ahi[3], blo[3], bhi[3];
+    const BvhNode& x = a.data->bvh.nodes[ia];
+    const BvhNode& y = b.data->bvh.nodes[ib];
+    map_box(rev, x.lo, x.hi, rev_margin_a, alo, ahi);
+    widen_box(y.lo, y.hi, rev_margin_b, blo, bhi);
+    return box_distance_squared(alo, ahi, blo, bhi);
+  }
+};
+
+Setup make_setup(const CollisionModel& ma, const Affine& ta, const CollisionModel& mb,
+                 const Affine& tb) {
+  Setup s;
+  const CollisionModelData* da = &ma.data();
+  const CollisionModelData* db = &mb.data();
+  Affine frame = Affine::Identity();
+  Affine first = ta, second = tb;
+  if (is_isometry(ta)) {
+    frame = ta;
+  } else if (is_isometry(tb)) {
+    s.swapped = true;
+    std::swap(da, db);
+    std::swap(first, second);
+    frame = first;
+  }
+  s.a.data = da;
+  s.b.data = db;
+  if (frame.matrix() == Affine::Identity().matrix()) {
+    s.a.set_map(first);
+    s.b.set_map(second);
+  } else {
+    const Affine inv = frame.inverse();
+    s.a.set_map(Affine::Identity());
+    s.b.set_map(inv * second);
+  }
+  s.to_world = frame;
+  // Reverse frame when a is untouched and b's map is rigid (the common case:
+  // two rigid parts); its rounding margins mirror those of the forward maps.
+  if (s.a.identity && !s.b.identity) {
+    Affine mb = Affine::Identity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) mb.linear()(r, c) = s.b.map.l[3 * r + c];
+      mb.translation()(r) = s.b.map.t[r];
+    }
+    if (is_isometry(mb)) {
+      s.reverse = true;
+      const Affine inv = mb.inverse();
+      s.rev = to_map(inv);
+      for (int r = 0; r < 3; ++r) {
+        double sa = std::abs(s.rev.t[r]), sb = 0.0;
+        for (int c = 0; c < 3; ++c) {
+          sa += s.rev.abs_l[3 * r + c] * 2.0 * s.a.data->max_abs[c];
+          // b's mapped vertices err by b.margin in the working frame; pulled
+          // back through the rigid inverse that is at most the same again.
+          sb += s.rev.abs_l[3 * r + c] * s.b.margin[c];
+        }
+        s.rev_margin_a[r] = kMarginRel * sa + 1e-300;
+        s.rev_margin_b[r] = 2.0 * sb + 1e-300;
+      }
+      s.obb = !s.a.data->obbs.empty() && !s.b.data->obbs.empty();
+      s.obb_tol = 2.0 * std::sqrt(s.b.margin[0] * s.b.margin[0] + s.b.margin[1] * s.b.margin[1] +
+                                  s.b.margin[2] * s.b.margin[2]);
+    }
+  }
+  return s;
+}
+
+double box_size(const double* lo, const double* hi) {
+  return (hi[0] - lo[0]) + (hi[1] - lo[1]) + (hi[2] - lo[2]);
+}
+
+// Projects the leaves' triangles on the unit axis n from the centroid of a's
+// vertices to b's: hi_a[i] = max over triangle i of a, lo_b[j] = min over
+// triangle j of b. Then lo_b[j] - hi_a[i] - slack is a lower bound of the
+// distance of the pair (a separating-axis gap); slack covers the rounding of
+// the dot products. Returns slack (infinity when the axis is degenerate, so
+// nothing is skipped).
+double leaf_axis_bounds(const double (*ta)[9], std::uint32_t na, const double (*tb)[9],
+                        std::uint32_t nb, double* hi_a, double* lo_b) {
+  double ca[3] = {0, 0, 0}, cb[3] = {0, 0, 0}, big = 0.0;
+  for (std::uint32_t i = 0; i < na; ++i)
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) {
+        ca[k] += ta[i][3 * v + k];
+        big = std::max(big, std::abs(ta[i][3 * v + k]));
+      }
+  for (std::uint32_t j = 0; j < nb; ++j)
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) {
+        cb[k] += tb[j][3 * v + k];
+        big = std::max(big, std::abs(tb[j][3 * v + k]));
+      }
+  double n[3];
+  for (int k = 0; k < 3; ++k) n[k] = cb[k] / (3 * nb) - ca[k] / (3 * na);
+  const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(len > 0.0) || !std::isfinite(len)) {
+    std::fill(hi_a, hi_a + na, 0.0);
+    std::fill(lo_b, lo_b + nb, 0.0);
+    return std::numeric_limits<double>::infinity();
+  }
+  for (double& c : n) c /= len;
+  for (std::uint32_t i = 0; i < na; ++i) {
+    double h = -std::numeric_limits<double>::infinity();
+    for (int v = 0; v < 3; ++v)
+      h = std::max(h, n[0] * ta[i][3 * v] + n[1] * ta[i][3 * v + 1] + n[2] * ta[i][3 * v + 2]);
+    hi_a[i] = h;
+  }
+  for (std::uint32_t j = 0; j < nb; ++j) {
+    double l = std::numeric_limits<double>::infinity();
+    for (int v = 0; v < 3; ++v)
+      l = std::min(l, n[0] * tb[j][3 * v] + n[1] * tb[j][3 * v + 1] + n[2] * tb[j][3 * v + 2]);
+    lo_b[j] = l;
+  }
+  // |n| = 1 to a few ulps; each dot product errs by < 4 eps * sqrt(3) * big,
+  // and the difference of two by twice that: 1e-14 * big is ample.
+  return 1e-14 * big + 1e-300;
+}
+
+// n[0..2]: the triangle's unit normal (zero for a zero-area triangle, so
+// its gap is never positive); n[3], n[4]: the span of its own vertices on it.
+void triangle_normal_span(const double* t, double* n) {
+  const double ux = t[3] - t[0], uy = t[4] - t[1], uz = t[5] - t[2];
+  const double vx = t[6] - t[0], vy = t[7] - t[1], vz = t[8] - t[2];
+  double c[3] = {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
+  const double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+  if (!(len > 0.0) || !std::isfinite(len)) {
+    std::fill(n, n + 5, 0.0);
+    return;
+  }
+  // Any unit axis gives a valid bound; the rounding of this one only makes
+  // it slightly less than the true normal, never wrong.
+  for (int k = 0; k < 3; ++k) n[k] = c[k] / len;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int v = 0; v < 3; ++v) {
+    const double d = n[0] * t[3 * v] + n[1] * t[3 * v + 1] + n[2] * t[3 * v + 2];
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  n[3] = lo;
+  n[4] = hi;
+}
+
+// Gap between the spans of the normal's triangle and triangle t on the
+// normal (a separating-axis lower bound of their distance before slack).
+double normal_gap(const double* n, const double* t) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (int v = 0; v < 3; ++v) {
+    const double d = n[0] * t[3 * v] + n[1] * t[3 * v + 1] + n[2] * t[3 * v + 2];
+    lo = std::min(lo, d);
+    hi = std::max(hi, d);
+  }
+  return std::max(lo - n[4], n[3] - hi);
+}
+
+struct NodePair {
+  std::uint32_t a, b;
+  double lower2;  // squared distance lower bound (distance queries)
+};
+
+thread_local std::vector<NodePair> t_stack;
+
+
+}  // namespace
+
+namespace {
+
+// Working-frame slots of the first intersecting pair found.
+struct FirstHit {
+  bool found = false;
+  std::uint32_t slot_a = 0, slot_b = 0;
+};
+
+// Collision in a prepared working frame, for overlap_descent
+// (kernels/pair_traversal.h); stops after `limit` pairs (>= 1).
+struct OverlapQuery {
+  using Pair = NodePair;
+  struct Cull {
+    double size_a, size_b;
+  };
+
+  const Setup& s;
+  std::size_t limit;
+  CollideResult& result;
+  FirstHit* hit;
+  const BvhNode* na = s.a.data->bvh.nodes.data();
+  const BvhNode* nb = s.b.data->bvh.nodes.data();
+  const LeafKernels& kernels = leaf_kernels();
+  const LeafSide side_a = s.a.leaf_side(), side_b = s.b.leaf_side();
+
+  void visited() { ++result.node_pairs_visited; }
+
+  bool disjoint(const Pair& p, Cull& c) const {
+    if (s.obb) {
+      if (s.obb_disjoint(p.a, p.b)) return true;
+      c.size_a = s.obb_size(p.a, true);
+      c.size_b = s.obb_size(p.b, false);
+      return false;
+    }
+    double alo[3], ahi[3], blo[3], bhi[3];
+    s.a.box(p.a, alo, ahi);
+    s.b.box(p.b, blo, bhi);
+    if (!boxes_overlap(alo, ahi, blo, bhi)) return true;
+    if (s.reverse_lower2(p.a, p.b) > 0.0) return true;
+    c.size_a = box_size(alo, ahi);
+    c.size_b = box_size(blo, bhi);
+    return false;
+  }
+
+  bool leaf_pair(const Pair& p) const { return na[p.a].is_leaf() && nb[p.b].is_leaf(); }
+
+  bool leaves(const Pair& p) {
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    // SIMD float prefilter on the stored float triangles
+    // (kernels/leaf_bounds.h): a pair it proves apart cannot touch, so only
+    // the rest reach the exact test, in the same order as without it, and
+    // a leaf pair with none left is never mapped in double.
+    LeafPairInput in;
+    make_leaf_pair(side_a, x.index, static_cast<int>(x.count), x.lo, x.hi, side_b, y.index,
+                   static_cast<int>(y.count), y.lo, y.hi, in);
+    std::uint32_t touch[kLeafLanes];
+    kernels.touch_masks(in, touch);
+    std::uint32_t any = 0;
+    for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
+    if (any == 0) return true;
+    double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+    for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
+    for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
+    // Exact per-triangle box prefilter: the boxes come from the very
+    // doubles the exact test sees, so disjoint boxes prove disjointness.
+    double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
+    for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
+    for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
+    for (std::uint32_t i = 0; i < x.count; ++i)
+      for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
+        const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+        if (!boxes_overlap(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3)) continue;
+        const double* p0 = tri_a[i];
+        const double* q0 = tri_b[j];
+        ++result.triangle_pairs_tested;
+        if (!tri_tri_overlap(p0, p0 + 3, p0 + 6, q0, q0 + 3, q0 + 6)) continue;
+        std::uint32_t ia = s.a.data->bvh.prim_ids[x.index + i];
+        std::uint32_t ib = s.b.data->bvh.prim_ids[y.index + j];
+        if (s.swapped) std::swap(ia, ib);
+        if (hit && !hit->found) *hit = FirstHit{true, x.index + i, y.index + j};
+        result.collide = true;
+        result.triangle_pairs.emplace_back(ia, ib);
+        if (result.triangle_pairs.size() >= limit) return false;
+      }
+    return true;
+  }
+
+  int split(const Pair& p, const Cull& c, Pair* kids) const {
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    if (!x.is_leaf() && (y.is_leaf() || c.size_a >= c.size_b)) {
+      kids[0] = {x.index, p.b, 0.0};
+      kids[1] = {x.index + 1, p.b, 0.0};
+    } else {
+      kids[0] = {p.a, y.index, 0.0};
+      kids[1] = {p.a, y.index + 1, 0.0};
+    }
+    return 2;
+  }
+};
+
+void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit) {
+  OverlapQuery q{s, limit, result, hit};
+  overlap_descent(q, t_stack, NodePair{0, 0, 0.0});
+}
+
+// Prune a node pair only when its lower bound clears the best distance by
+// more than the rounding of the squared box gaps.
+constexpr double kShrink = 1.0 - 1e-12;
+
+// Distance in a prepared working frame once no pair intersects, for
+// distance_descent (kernels/pair_traversal.h).
+struct DistanceQuery {
+  using Pair = NodePair;
+
+  const Setup& s;
+  DistanceResult& result;
+  const BvhNode* na = s.a.data->bvh.nodes.data();
+  const BvhNode* nb = s.b.data->bvh.nodes.data();
+  double best;
+  // Pruning threshold: best / (1 + rel_tolerance) (best itself when exact).
+  double shrink_rel;
+  double tie;
+  double cut = std::max(0.0, best * shrink_rel - tie);
+  double best2_ = cut * cut;
+  bool found = false;
+  std::uint32_t best_sa = 0, best_sb = 0;
+  Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
+  const LeafKernels& kernels = leaf_kernels();
+  const LeafSide side_a = s.a.leaf_side(), side_b = s.b.leaf_side();
+  const double kernel_slack = 1e-13 * std::max(side_a.size, side_b.size) + 1e-300;
+
+  double best2() const { return best2_; }
+  void visited() { ++result.node_pairs_visited; }
+  bool leaf_pair(const Pair& p) const { return na[p.a].is_leaf() && nb[p.b].is_leaf(); }
+
+  // A closer pair (slots in the working frame, points there too).
+  void improve(double dist, std::uint32_t sa, std::uint32_t sb, const Vec3& pa, const Vec3& pb) {
+    found = true;
+    best = dist;
+    cut = std::max(0.0, best * shrink_rel - tie);
+    best2_ = cut * cut;
+    best_sa = sa;
+    best_sb = sb;
+    best_pa = pa;
+    best_pb = pb;
+  }
+
+  // Squared lower bound of node pair (ia, ib); sizes (when asked) get the
+  // two nodes' sizes; mb: b's node ib already mapped (Setup::map_b), or nullptr.
+  double lower2(std::uint32_t ia, std::uint32_t ib, double* sizes, Setup::MappedB* mb = nullptr) const {
+    if (s.obb) {
+      if (sizes) {
+        sizes[0] = s.obb_size(ia, true);
+        sizes[1] = s.obb_size(ib, false);
+      }
+      Setup::MappedB own;
+      if (!mb) {
+        s.map_b(ib, own);
+        mb = &own;
+      }
+      // Balls around the boxes first (centre distance minus circumradii):
+      // a tenth of the work of the box bound, and enough to prune most
+      // children far beyond the best distance.
+      const NodeObb& oa = s.a.data->obbs[ia];
+      const double* cb = mb->cb;
+      const double dx = cb[0] - oa.center[0], dy = cb[1] - oa.center[1], dz = cb[2] - oa.center[2];
+      const double ra = oa.radius;
+      const double rb = s.b.data->obbs[ib].radius;
+      const double centres = std::sqrt(dx * dx + dy * dy + dz * dz);
+      // Rounding: b's centre mapping (obb_tol) and a few ulps of every term.
+      const double tol = s.obb_tol + 1e-12 * (centres + ra + rb + std::abs(cb[0]) + std::abs(cb[1]) +
+                                              std::abs(cb[2]) + std::abs(oa.center[0]) +
+                                              std::abs(oa.center[1]) + std::abs(oa.center[2]));
+      const double ball = centres - ra - rb - tol;
+      if (ball > 0.0 && ball * ball * kShrink >= best2_) return ball * ball * kShrink;
+      const double lb = s.obb_lower(ia, *mb);
+      return lb * lb * kShrink;
+    }
+    double alo[3], ahi[3], blo[3], bhi[3];
+    s.a.box(ia, alo, ahi);
+    s.b.box(ib, blo, bhi);
+    if (sizes) {
+      sizes[0] = box_size(alo, ahi);
+      sizes[1] = box_size(blo, bhi);
+    }
+    const double forward = box_distance_squared(alo, ahi, blo, bhi);
+    return std::max(forward, s.reverse_lower2(ia, ib)) * kShrink;
+  }
+
+  // (best + kernel_slack)^2 rounded up to float: a float bound at or above
+  // it proves the pair cannot improve on best.
+  float float_cut2() const {
+    const double c = best + kernel_slack;
+    return round_up(c * c * (1.0 + 1e-15));
+  }
+
+  bool leaves(const Pair& p) {
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    // SIMD float lower bounds first, on the stored float triangles
+    // (kernels/leaf_bounds.h). A pair is skipped only when its bound
+    // reaches best + kernel_slack: the double kernel's value for it would
+    // then be >= best (its closest points lie within a few ulps of `size`
+    // of the triangles, far less than kernel_slack), so it could not have
+    // changed the answer. The double bounds below still settle every
+    // remaining pair as before, so the result is the same as without this
+    // filter, at every width; a leaf pair with no pair left is never
+    // mapped in double.
+    LeafPairInput in;
+    make_leaf_pair(side_a, x.index, static_cast<int>(x.count), x.lo, x.hi, side_b, y.index,
+                   static_cast<int>(y.count), y.lo, y.hi, in);
+    float cut2_f = float_cut2();
+    LeafPairBounds lb;
+    kernels.lower_bounds(in, cut2_f, lb);
+    std::uint32_t any = 0;
+    for (std::uint32_t i = 0; i < x.count; ++i) any |= lb.candidates[i];
+    if (any == 0) return true;
+    double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+    // The double path, computed as far as the pairs need it: most pairs
+    // left here sit within the float rounding of the best distance (ties,
+    // as parallel faces), and their own triangle boxes settle them, so a
+    // triangle is mapped only when a pair needs it and the leaf-wide axis
+    // only when a box does not settle a pair. The tests are independent
+    // skip conditions, so their order does not change which pairs reach
+    // the kernel.
+    bool mapped_a[kMaxLeafSize] = {}, mapped_b[kMaxLeafSize] = {};
+    double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
+    // Separating-axis lower bound with the actual vertices, on the axis
+    // through the two leaves' vertex centroids: near the closest pair that
+    // axis is almost the optimal one, and unlike boxes the vertices carry
+    // no slack beyond the patches' own curvature.
+    double hi_a[kMaxLeafSize], lo_b[kMaxLeafSize];
+    double slack = 0.0, normal_slack = 0.0;
+    bool whole = false;
+    auto need_a = [&](std::uint32_t i) {
+      if (mapped_a[i]) return;
+      s.a.triangle(x.index + i, tri_a[i]);
+      triangle_box(tri_a[i], box_a[i]);
+      mapped_a[i] = true;
+    };
+    auto need_b = [&](std::uint32_t j) {
+      if (mapped_b[j]) return;
+      s.b.triangle(y.index + j, tri_b[j]);
+      triangle_box(tri_b[j], box_b[j]);
+      mapped_b[j] = true;
+    };
+    auto need_whole = [&] {
+      if (whole) return;
+      for (std::uint32_t i = 0; i < x.count; ++i) need_a(i);
+      for (std::uint32_t j = 0; j < y.count; ++j) need_b(j);
+      slack = leaf_axis_bounds(tri_a, x.count, tri_b, y.count, hi_a, lo_b);
+      double big = 0.0;
+      for (std::uint32_t i = 0; i < x.count; ++i)
+        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_a[i][k]));
+      for (std::uint32_t j = 0; j < y.count; ++j)
+        for (int k = 0; k < 6; ++k) big = std::max(big, std::abs(box_b[j][k]));
+      // Dot products with a unit vector err by < 4 eps sqrt(3) big each;
+      // a gap is a difference of two: 1e-14 big is ample.
+      normal_slack = 1e-14 * big + 1e-300;
+      whole = true;
+    };
+    // Each triangle's own unit normal as a separating axis for the pairs
+    // it is in: facing patches (an arm's flat underside over a deck) are
+    // told apart by a few dot products instead of the 15-feature kernel.
+    // Computed on first use: most pairs fall to the cheaper bounds first.
+    double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
+    bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
+    for (std::uint32_t i = 0; i < x.count; ++i)
+      for (std::uint32_t m = lb.candidates[i]; m != 0; m &= m - 1) {
+        const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+        if (lb.lower2[i][j] >= cut2_f) continue;
+        need_a(i);
+        need_b(j);
+        // Triangle boxes: a cheap lower bound (axis-aligned gaps).
+        if (box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= best2_)
+          continue;
+        need_whole();
+        if (lo_b[j] - hi_a[i] - slack >= cut) continue;
+        if (!have_a[i]) {
+          triangle_normal_span(tri_a[i], norm_a[i]);
+          have_a[i] = true;
+        }
+        if (!have_b[j]) {
+          triangle_normal_span(tri_b[j], norm_b[j]);
+          have_b[j] = true;
+        }
+        if (normal_gap(norm_a[i], tri_b[j]) - normal_slack >= cut ||
+            normal_gap(norm_b[j], tri_a[i]) - normal_slack >= cut)
+          continue;
+        ++result.triangle_pairs_tested;
+        // The collision pass found no intersecting pair, so these triangles
+        // are disjoint: the feature pairs alone give the exact tri_distance
+        // answer, without its overlap test.
+        Vec3 pp, qq;
+        const double d2 = tri_distance_disjoint2(tri_a[i], tri_b[j], pp, qq);
+        const double dist = std::sqrt(d2);
+        if (!(dist < best)) continue;
+        improve(dist, x.index + i, y.index + j, pp, qq);
+        cut2_f = float_cut2();
+        if (best == 0.0) return false;  // nothing is closer
+      }
+    return true;
+  }
+
+  int split(const Pair& p, Pair* kids) const {
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    double sizes[2];
+    if (s.obb) {
+      sizes[0] = s.obb_size(p.a, true);
+      sizes[1] = s.obb_size(p.b, false);
+    } else {
+      lower2(p.a, p.b, sizes);
+    }
+    if (!x.is_leaf() && (y.is_leaf() || sizes[0] >= sizes[1])) {
+      // Both children meet the same b node: map it once.
+      Setup::MappedB mb;
+      Setup::MappedB* shared = nullptr;
+      if (s.obb) {
+        s.map_b(p.b, mb);
+        shared = &mb;
+      }
+      kids[0] = {x.index, p.b, lower2(x.index, p.b, nullptr, shared)};
+      kids[1] = {x.index + 1, p.b, lower2(x.index + 1, p.b, nullptr, shared)};
+    } else {
+      kids[0] = {p.a, y.index, lower2(p.a, y.index, nullptr)};
+      kids[1] = {p.a, y.index + 1, lower2(p.a, y.index + 1, nullptr)};
+    }
+    return 2;
+  }
+};
+
+}  // namespace
+
+void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+             const CollideRequest& request, CollideResult& result) {
+  result.collide = false;
+  result.triangle_pairs.clear();
+  result.node_pairs_visited = result.triangle_pairs_tested = 0;
+  if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
+  const Setup s = make_setup(a, ta, b, tb);
+  collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, nullptr);
+}
+
+void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+              const DistanceRequest& request, DistanceResult& result) {
+  result = DistanceResult{};
+  if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
+  const Setup s = make_setup(a, ta, b, tb);
+  if (!(request.upper_bound > 0.0)) return;  // no distance is below 0
+  {
+    // Intersection first: the collision traversal stops at the first hit
+    // and culls far harder than distance bounds, which cannot prune
+    // anything once pairs are at distance 0.
+    CollideResult c;
+    FirstHit hit;
+    collide_in(s, 1, c, &hit);
+    result.node_pairs_visited += c.node_pairs_visited;
+    result.triangle_pairs_tested += c.triangle_pairs_tested;
+    if (hit.found) {
+      double p[9], q[9];
+      s.a.triangle(hit.slot_a, p);
+      s.b.triangle(hit.slot_b, q);
+      const TriDistance d = tri_distance(p, q);  // intersecting: a common point
+      Vec3 pa = s.to_world * d.point_p, pb = s.to_world * d.point_q;
+      std::uint32_t ia = s.a.data->bvh.prim_ids[hit.slot_a];
+      std::uint32_t ib = s.b.data->bvh.prim_ids[hit.slot_b];
+      if (s.swapped) {
+        std::swap(ia, ib);
+        std::swap(pa, pb);
+      }
+      result.found = true;
+      result.distance = 0.0;
+      result.point_a = pa;
+      result.point_b = pb;
+      result.triangle_a = ia;
+      result.triangle_b = ib;
+      return;
+    }
+  }
+  DistanceQuery q{s, result, s.a.data->bvh.nodes.data(), s.b.data->bvh.nodes.data(), request.upper_bound,
+                  1.0 / (1.0 + std::max(0.0, request.rel_tolerance)), std::max(0.0, request.abs_tolerance)};
+  const NodePair root{0, 0, q.lower2(0, 0, nullptr)};
+  if (request.seed_slot_a >= 0 && request.seed_slot_b >= 0) {
+    std::uint32_t sa = static_cast<std::uint32_t>(request.seed_slot_a);
+    std::uint32_t sb = static_cast<std::uint32_t>(request.seed_slot_b);
+    if (s.swapped) std::swap(sa, sb);
+    if (sa < s.a.data->triangle_count() && sb < s.b.data->triangle_count()) {
+      // Exactly what the traversal computes for this pair (same frame, same
+      // kernel), so the minimum found is unchanged; only the bound is earlier.
+      double p[9], t[9];
+      s.a.triangle(sa, p);
+      s.b.triangle(sb, t);
+      Vec3 pp, qq;
+      const double dist = std::sqrt(tri_distance_disjoint2(p, t, pp, qq));
+      if (dist < q.best) q.improve(dist, sa, sb, pp, qq);
+    }
+  }
+  distance_descent(q, t_stack, root);
+  if (!q.found) return;
+  result.found = true;
+  result.distance = q.best;
+  Vec3 pa = s.to_world * q.best_pa, pb = s.to_world * q.best_pb;
+  std::uint32_t ia = s.a.data->bvh.prim_ids[q.best_sa];
+  std::uint32_t ib = s.b.data->bvh.prim_ids[q.best_sb];
+  if (s.swapped) {
+    std::swap(ia, ib);
+    std::swap(pa, pb);
+  }
+  result.point_a = pa;
+  result.point_b = pb;
+  result.triangle_a = ia;
+  result.triangle_b = ib;
+  result.slot_a = s.swapped ? q.best_sb : q.best_sa;
+  result.slot_b = s.swapped ? q.best_sa : q.best_sb;
+}
+
+}  // namespace plancheck

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: MIT
+// Per-part collision structure and exact pair queries (collision, distance).
+// A model is built once in the part's reference frame; a query takes the two
+// parts' current transforms and works in a relative frame, so no vertex is
+// rewritten per state. Models are immutable after build and safe to query
+// from many threads at once.
+#pragma once
+
+#include "src/scene/scene.h"
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace plancheck {
+
+struct CollisionModelData;  // BVH and triangles; defined in bvh.h
+
+class CollisionModel {
+ public:
+  explicit CollisionModel(const Mesh& mesh);  // builds the BVH (reference frame)
+  ~CollisionModel();
+  CollisionModel(CollisionModel&&) noexcept;
+  CollisionModel& operator=(CollisionModel&&) noexcept;
+
+  std::size_t triangle_count() const;
+  std::size_t memory_bytes() const;     // all collision structures of this part
+  const CollisionModelData& data() const { return *data_; }
+
+ private:
+  std::unique_ptr<CollisionModelData> data_;
+};
+
+struct CollideRequest {
+  // Intersecting triangle pairs to list; 0: stop at the first (it is listed).
+  std::size_t max_triangle_pairs = 16;
+};
+
+struct CollideResult {
+  bool collide = false;                 // true when the sets touch or intersect (exact)
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> triangle_pairs;  // (index in a, index in b)
+  std::uint64_t node_pairs_visited = 0;   // statistics: BVH node pairs popped
+  std::uint64_t triangle_pairs_tested = 0;  // statistics: exact triangle tests run
+};
+
+struct DistanceRequest {
+  // Only distances strictly below this are searched for (m); the best distance
+  // found so far across a state's pairs goes here so it prunes the rest.
+  double upper_bound = std::numeric_limits<double>::infinity();
+  // Relative tolerance (like FCL's rel_err): a node or triangle pair is
+  // skipped when its lower bound times (1 + rel_tolerance) reaches the best
+  // distance, so the answer is within that factor of the exact one. 0: exact.
+  double rel_tolerance = 0.0;
+  // Absolute tolerance (m): node and triangle pairs whose lower bound is
+  // within this of the best so far are skipped, so the answer is at most
+  // this much above the minimum of the triangle-pair kernel values. Without
+  // it, pairs tied at the minimum (parallel faces at one distance, common in
+  // CAD models) must all run the full kernel, since rounding slack keeps
+  // their lower bounds just under the best. 0: exact.
+  double abs_tolerance = 0.0;
+  // Coherence seed: model slots (CollisionModelData::triangles order) of a
+  // triangle pair, usually the previous state's closest pair. Its distance at
+  // this pose is computed first and bounds the search; the answer is the
+  // same as without it. -1: no seed.
+  std::int64_t seed_slot_a = -1;
+  std::int64_t seed_slot_b = -1;
+};
+
+struct DistanceResult {
+  bool found = false;                   // a distance below upper_bound was found
+  double distance = std::numeric_limits<double>::infinity();  // m, world frame; 0 when touching
+  Vec3 point_a = Vec3::Zero();          // closest point on a, world frame (m)
+  Vec3 point_b = Vec3::Zero();          // closest point on b, world frame (m)
+  std::uint32_t triangle_a = 0;          // triangle index in a's mesh (valid when found)
+  std::uint32_t triangle_b = 0;          // triangle index in b's mesh (valid when found)
+  std::uint32_t slot_a = 0;              // the same triangles as model slots (a seed for the next state)
+  std::uint32_t slot_b = 0;
+  std::uint64_t node_pairs_visited = 0;   // statistics: BVH node pairs expanded or tested
+  std::uint64_t triangle_pairs_tested = 0;  // statistics: triangle distance kernels run
+};
+
+// Transforms are affine in general (scale actions); distances are Euclidean
+// in the world frame. Intersection is decided exactly on the posed double
+// coordinates: touching counts as colliding.
+// "Posed" means the query's working frame (collision_model.cpp): a's own
+// frame when ta is rigid (b's vertices mapped once by ta^-1 tb and rounded),
+// b's frame when only tb is rigid, else the world frame. The exact decision
+// is on those doubles; a world-frame rounding of the same pose can differ
+// only for contacts within a few ulps of touching.
+// Both are thread-safe (a small thread_local stack; no shared mutable state).
+void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+             const CollideRequest& request, CollideResult& result);
+
+void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+              const DistanceRequest& request, DistanceResult& result);
+
+}  // namespace plancheck

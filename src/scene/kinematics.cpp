@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: MIT
+// Forward kinematics per the scene contract: a part under actions A1 (nearest
+// the root) ... Ak (nearest the part) maps x to A1(A2(...Ak(x))), so a chain's
+// transform is the product A1 * A2 * ... * Ak of the action transforms. Every
+// pivot, axis and fixed point is given at the reference pose, which is what
+// makes this order right: Ak acts first, while everything above it is still
+// where the file drew it.
+#include "src/scene/kinematics.h"
+
+#include <cmath>
+
+namespace plancheck {
+
+double pose_value(const Action& action, double written) {
+  if (action.whole_turn > 0.0) return std::remainder(written, action.whole_turn) * action.unit_to_si;
+  return written * action.unit_to_si;
+}
+
+Affine action_transform(const Action& action, const double* params) {
+  Affine t = Affine::Identity();
+  switch (action.type) {
+    case ActionType::kRotate:
+      // x' = R(u, a)(x - p) + p, right-handed about the unit axis u.
+      t.translate(action.pivot);
+      t.rotate(Eigen::AngleAxisd(pose_value(action, params[0]), action.axis));
+      t.translate(-action.pivot);
+      break;
+    case ActionType::kTranslateAxis:
+      t.translate(action.axis * pose_value(action, params[0]));
+      break;
+    case ActionType::kTranslateFree:
+      t.translate(Vec3(pose_value(action, params[0]), pose_value(action, params[1]), pose_value(action, params[2])));
+      break;
+    case ActionType::kScale:
+      t.translate(action.fixed_point);
+      t.scale(Vec3(params[0], params[1], params[2]));
+      t.translate(-action.fixed_point);
+      break;
+  }
+  return t;
+}
+
+double driving_value(const Scene& scene, const Action& action, std::span<const double> params) {
+  if (action.mimic < 0) return params[static_cast<std::size_t>(action.first_parameter)];
+  const Action& master = scene.actions[static_cast<std::size_t>(action.mimic)];
+  return action.multiplier * params[static_cast<std::size_t>(master.first_parameter)] + action.offset;
+}
+
+Affine action_transform_at(const Scene& scene, const Action& action, std::span<const double> params) {
+  if (action.mimic < 0) return action_transform(action, params.data() + action.first_parameter);
+  const double value = driving_value(scene, action, params);
+  return action_transform(action, &value);
+}
+
+namespace {
+
+Affine compose(const Scene& scene, const std::vector<int>& chain, std::span<const double> params) {
+  Affine t = Affine::Identity();
+  for (int a : chain) {
+    t = t * action_transform_at(scene, scene.actions[a], params);
+  }
+  return t;
+}
+
+}  // namespace
+
+void chain_transforms(const Scene& scene, std::span<const double> params, std::vector<Affine>& out) {
+  out.resize(scene.chains.size());
+  for (std::size_t c = 0; c < scene.chains.size(); ++c) out[c] = compose(scene, scene.chains[c], params);
+}
+
+Affine part_transform(const Scene& scene, int part, std::span<const double> params) {
+  return compose(scene, scene.parts[part].chain, params);
+}
+
+int first_limit_violation(const Scene& scene, std::span<const double> params) {
+  for (std::size_t a = 0; a < scene.actions.size(); ++a) {
+    const Action& action = scene.actions[a];
+    if (!action.has_limits) continue;
+    for (int k = 0; k < action.parameter_count; ++k) {
+      const double v = params[action.first_parameter + k];
+      // Written so that NaN counts as a violation: never a false "within limits".
+      if (!(v >= action.lower && v <= action.upper)) return static_cast<int>(a);
+    }
+  }
+  return -1;
+}
+
+bool is_rigid(const Affine& t) {
+  constexpr double kTolerance = 1e-9;
+  const Mat3 r = t.linear();
+  return (r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff() <= kTolerance &&
+         std::abs(r.determinant() - 1.0) <= kTolerance;
+}
+
+}  // namespace plancheck

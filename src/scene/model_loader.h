@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: MIT
+// Model file (anything assimp reads) -> part tree and triangle meshes.
+#pragma once
+
+#include "src/scene/isolate.h"
+#include "src/scene/scene.h"
+
+#include <filesystem>
+
+namespace plancheck {
+
+// Fills scene.nodes (nodes[0] = root) and scene.parts from the model file:
+// node transforms from the root down applied, vertices multiplied by
+// length_scale (metres per unit). 3ds per-mesh child nodes ("Object_3") are
+// folded into their object. Throws InputError on an unreadable, empty or
+// malformed model and on duplicate part names (naming both paths).
+// assimp runs in a child process under `limits` (src/scene/isolate.h): a crash, hang
+// or memory bomb in it becomes an InputError naming the file, and what the
+// child hands back is checked before it is used.
+void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
+                const IsolationLimits& limits = {});
+
+// Every triangle of a model file as one mesh, node transforms applied (the
+// file's own frame, its unit included, no up-axis turn: what RViz shows for a
+// URDF mesh). Node names need not be unique. Same guards, isolation and
+// checks as load_model; warnings are appended to `warnings`.
+Mesh load_mesh(const std::filesystem::path& model, std::vector<std::string>& warnings,
+               const IsolationLimits& limits = {});
+
+}  // namespace plancheck
