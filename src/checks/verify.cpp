@@ -475,8 +475,19 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     for (std::size_t k = 0; k < pairs_.size(); ++k)
       if (pairs_[k].a == out.contacts[0].part_a && pairs_[k].b == out.contacts[0].part_b) order.push_back(k);
   } else {
-    order.resize(pairs_.size());
-    std::iota(order.begin(), order.end(), 0);
+    // Only pairs whose lower bound is under the starting bound can matter
+    // (verdict-only: under the cutoff, often a handful of the pairs); the
+    // rest are proven beyond it by their box gaps or carried separations.
+    // (The full check sorts them all, as it always has: the order among
+    // equal bounds decides which of equally close pairs is reported.)
+    double skipped = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < pairs_.size(); ++k) {
+      if (!verdict_only || lower[k] < out.min_distance)
+        order.push_back(k);
+      else
+        skipped = std::min(skipped, lower[k]);
+    }
+    if (verdict_only && out.min_distance >= cutoff) beyond = std::min(beyond, skipped);
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return lower[x] < lower[y]; });
   }
   StateSeed hint;
@@ -520,7 +531,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // The hinted pair first: its bound then prunes every other pair.
   if (!out.collision && usable(hint)) {
     const auto it = std::find(order.begin(), order.end(), static_cast<std::size_t>(hint.pair));
-    std::rotate(order.begin(), it, it + 1);
+    if (it != order.end()) std::rotate(order.begin(), it, it + 1);
   }
   bool first = true;
   const double shrink = 1.0 / (1.0 + request.rel_tolerance);
