@@ -278,6 +278,12 @@ namespace {
 constexpr int kLeafTris = 2 * Heightfield::kLeafCells * Heightfield::kLeafCells;
 constexpr int kLeafSamples = (Heightfield::kLeafCells + 1) * (Heightfield::kLeafCells + 1);
 
+// A leaf pair's triangles (part, terrain) and their boxes (HfQuery::leaf_triangles).
+struct LeafTriangles {
+  double tri_p[kMaxLeafSize][9], tri_t[kLeafTris][9], box_p[kMaxLeafSize][6], box_t[kLeafTris][6];
+  std::uint32_t ids[kLeafTris];
+};
+
 struct HfQuery {
   const CollisionModelData* part = nullptr;
   const Heightfield* hf = nullptr;
@@ -393,6 +399,16 @@ struct HfQuery {
     return n;
   }
 
+  // Both sides of a leaf pair (part leaf x, terrain leaf block (bx, by)) in
+  // the working frame with their boxes; returns the terrain triangle count.
+  int leaf_triangles(const BvhNode& x, int bx, int by, LeafTriangles& l) const {
+    part_triangles(x, l.tri_p);
+    const int nt = terrain_triangles(bx, by, l.tri_t, l.ids);
+    for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(l.tri_p[i], l.box_p[i]);
+    for (int j = 0; j < nt; ++j) triangle_box(l.tri_t[j], l.box_t[j]);
+    return nt;
+  }
+
   // Overlap and distance kernels in the mesh path's argument order.
   bool overlap(const double* p, const double* t) const {
     if (rigid) return tri_tri_overlap(p, p + 3, p + 6, t, t + 3, t + 6);
@@ -487,12 +503,9 @@ struct HfOverlap {
 
   bool leaves(const Pair& p) {
     const BvhNode& x = q.part->bvh.nodes[p.node];
-    double tri_p[kMaxLeafSize][9], tri_t[kLeafTris][9], box_p[kMaxLeafSize][6], box_t[kLeafTris][6];
-    std::uint32_t ids[kLeafTris];
-    q.part_triangles(x, tri_p);
-    const int nt = q.terrain_triangles(p.bx, p.by, tri_t, ids);
-    for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_p[i], box_p[i]);
-    for (int j = 0; j < nt; ++j) triangle_box(tri_t[j], box_t[j]);
+    LeafTriangles l;
+    const int nt = q.leaf_triangles(x, p.bx, p.by, l);
+    auto& [tri_p, tri_t, box_p, box_t, ids] = l;
     for (std::uint32_t i = 0; i < x.count; ++i)
       for (int j = 0; j < nt; ++j) {
         if (!boxes_overlap(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3)) continue;
@@ -573,12 +586,9 @@ struct HfDistance {
 
   bool leaves(const Pair& p) {
     const BvhNode& x = q.part->bvh.nodes[p.node];
-    double tri_p[kMaxLeafSize][9], tri_t[kLeafTris][9], box_p[kMaxLeafSize][6], box_t[kLeafTris][6];
-    std::uint32_t ids[kLeafTris];
-    q.part_triangles(x, tri_p);
-    const int nt = q.terrain_triangles(p.bx, p.by, tri_t, ids);
-    for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_p[i], box_p[i]);
-    for (int j = 0; j < nt; ++j) triangle_box(tri_t[j], box_t[j]);
+    LeafTriangles l;
+    const int nt = q.leaf_triangles(x, p.bx, p.by, l);
+    auto& [tri_p, tri_t, box_p, box_t, ids] = l;
     for (std::uint32_t i = 0; i < x.count; ++i)
       for (int j = 0; j < nt; ++j) {
         if (box_distance_squared(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3) * kShrink >= best2_) continue;
