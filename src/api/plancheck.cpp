@@ -23,6 +23,8 @@ using ::plancheck::hardware_threads;
 using ::plancheck::load_scene;
 using ::plancheck::parallel_for;
 using ::plancheck::state_verdict;
+using ::plancheck::verdict_only_request;
+using CheckRequest = ::plancheck::CheckRequest;
 }  // namespace plancheck_core
 
 #include "src/api/plancheck/plancheck.h"
@@ -100,11 +102,15 @@ Verdict public_verdict(plancheck_core::Verdict v) {
 
 // One state, as verify's CSV row reports it (src/report.cpp) and as verify
 // ranks it (state_verdict).
-void check_one(const detail::CheckerData& d, const std::vector<double>& params, StateResult& out) {
+void check_one(const detail::CheckerData& d, const std::vector<double>& params, StateResult& out,
+               const CheckOptions& options) {
   plancheck_core::StateResult st;
-  d.checker->check_state(params, st);
   const plancheck_core::Scene& scene = d.scene->scene;
+  d.checker->check_state(params, st,
+                         options.verdict_only ? plancheck_core::verdict_only_request(scene.safety_margin)
+                                              : plancheck_core::CheckRequest{});
   const double unit = scene.length_scale;
+  out.min_distance_is_bound = st.distance_is_bound;
   out.collision = st.collision;
   out.part_a_index = st.part_a;
   out.part_b_index = st.part_b;
@@ -117,7 +123,7 @@ void check_one(const detail::CheckerData& d, const std::vector<double>& params, 
       out.point_b[static_cast<std::size_t>(i)] = st.point_b[i] / unit;
     }
   } else {
-    out.min_distance = std::numeric_limits<double>::infinity();
+    out.min_distance = st.distance_is_bound ? st.min_distance / unit : std::numeric_limits<double>::infinity();
     out.part_a.clear();
     out.part_b.clear();
     out.point_a = {};
@@ -194,14 +200,21 @@ Checker::Checker(const Scene& scene, int threads) {
   });
 }
 
-StateResult Checker::check(const std::vector<double>& state) const {
+StateResult Checker::check(const std::vector<double>& state) const { return check(state, CheckOptions{}); }
+
+StateResult Checker::check(const std::vector<double>& state, const CheckOptions& options) const {
   validate(*data_->scene, state.data(), state.size(), "state");
   StateResult out;
-  translated([&] { check_one(*data_, state, out); });
+  translated([&] { check_one(*data_, state, out, options); });
   return out;
 }
 
 std::vector<StateResult> Checker::check_batch(const std::vector<std::vector<double>>& states) const {
+  return check_batch(states, CheckOptions{});
+}
+
+std::vector<StateResult> Checker::check_batch(const std::vector<std::vector<double>>& states,
+                                              const CheckOptions& options) const {
   const std::size_t n = parameter_count();
   for (std::size_t i = 0; i < states.size(); ++i)
     validate(*data_->scene, states[i].data(), states[i].size(), "state " + std::to_string(i));
@@ -209,11 +222,16 @@ std::vector<StateResult> Checker::check_batch(const std::vector<std::vector<doub
   rows.reserve(states.size() * n);
   for (const auto& s : states) rows.insert(rows.end(), s.begin(), s.end());
   std::vector<StateResult> out(states.size());
-  check_batch(rows.data(), states.size(), out.data());
+  check_batch(rows.data(), states.size(), out.data(), options);
   return out;
 }
 
 void Checker::check_batch(const double* states, std::size_t count, StateResult* out) const {
+  check_batch(states, count, out, CheckOptions{});
+}
+
+void Checker::check_batch(const double* states, std::size_t count, StateResult* out,
+                          const CheckOptions& options) const {
   const std::size_t n = parameter_count();
   for (std::size_t i = 0; i < count; ++i) validate(*data_->scene, states + i * n, n, "state " + std::to_string(i));
   // States are independent (no coherence seed between them), so out[i] is
@@ -224,7 +242,7 @@ void Checker::check_batch(const double* states, std::size_t count, StateResult* 
       std::vector<double> params(n);
       for (std::size_t i = begin; i < end; ++i) {
         params.assign(states + i * n, states + (i + 1) * n);
-        check_one(*data_, params, out[i]);
+        check_one(*data_, params, out[i], options);
       }
     });
   });

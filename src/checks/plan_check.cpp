@@ -22,6 +22,15 @@ Verdict state_verdict(const StateResult& st, double margin) {
   return Verdict::kSafe;
 }
 
+CheckRequest verdict_only_request(double safety_margin) {
+  CheckRequest r;
+  r.max_triangle_pairs = 0;
+  r.all_contacts = false;
+  // A margin of 0 (or less) judges contacts only: every distance may be a bound.
+  r.exact_below = std::max(safety_margin, 0.0);
+  return r;
+}
+
 const char* verdict_name(Verdict v) {
   switch (v) {
     case Verdict::kSafe: return "safe";
@@ -55,6 +64,7 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
   // A digging scene's terrain pairs wait for the dig pass (regolith.cpp),
   // which checks each state against the terrain as dug through that state.
   const bool terrain_later = options.regolith && checker.terrain_is_dug();
+  const CheckRequest request = options.verdict_only ? verdict_only_request(scene.safety_margin) : CheckRequest{};
   parallel_for(runs, options.threads, 1, [&](std::size_t run_begin, std::size_t run_end, int) {
     StateSeed seed;
     for (std::size_t i = run_begin * kRun; i < std::min(items.size(), run_end * kRun); ++i) {
@@ -62,9 +72,9 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
       if (i % kRun == 0 || items[i - 1].first != p) seed = StateSeed{};
       const auto t0 = std::chrono::steady_clock::now();
       if (terrain_later)
-        checker.check_state_without_terrain(plans[p].states[s], results[p].states[s], CheckRequest{}, &seed);
+        checker.check_state_without_terrain(plans[p].states[s], results[p].states[s], request, &seed);
       else
-        checker.check_state(plans[p].states[s], results[p].states[s], CheckRequest{}, &seed);
+        checker.check_state(plans[p].states[s], results[p].states[s], request, &seed);
       state_seconds[p][s] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
     if (options.progress) options.progress->add(std::min(items.size(), run_end * kRun) - run_begin * kRun);
@@ -80,7 +90,9 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
     r.seconds = std::accumulate(state_seconds[p].begin(), state_seconds[p].end(), 0.0);
     for (std::size_t s = 0; s < r.states.size(); ++s) {
       const StateResult& st = r.states[s];
-      if (st.part_a >= 0 && st.min_distance < r.min_distance) {
+      // A verdict-only state's lower bound counts too: the plan's minimum is
+      // then a bound as well (min_part_a -1).
+      if ((st.part_a >= 0 || st.distance_is_bound) && st.min_distance < r.min_distance) {
         r.min_distance = st.min_distance;
         r.min_distance_state = s;
         r.min_part_a = st.part_a;

@@ -77,6 +77,7 @@ void dig_and_probe(const Checker& checker, const std::vector<Plan>& plans, std::
     }
     // Coherence along each plan's terrain pairs (plans run on one thread each).
     std::vector<StateSeed> seeds(plans.size());
+    const CheckRequest request = options.verdict_only ? verdict_only_request(checker.safety_margin()) : CheckRequest{};
     DigWalk walk;
     walk.after_state = [&](std::size_t p, std::size_t s, Heightfield* field) {
       if (!field) return;
@@ -90,7 +91,7 @@ void dig_and_probe(const Checker& checker, const std::vector<Plan>& plans, std::
       }
       if (!check) return;
       const auto t0 = std::chrono::steady_clock::now();
-      checker.check_terrain(plans[p].states[s], *field, results[p].states[s], &seeds[p]);
+      checker.check_terrain(plans[p].states[s], *field, results[p].states[s], &seeds[p], request);
       state_seconds[p][s] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     };
     walk.after_plan = [&](std::size_t p, DigSummary summary, std::vector<DigStep>& steps) {

@@ -257,19 +257,30 @@ std::size_t Checker::memory_bytes() const {
 }
 
 void Checker::check_terrain(const std::vector<double>& params, const Heightfield& terrain, StateResult& out,
-                            StateSeed* seed) const {
+                            StateSeed* seed, const CheckRequest& request) const {
   StateResult t;
-  // A state already colliding needs only the terrain's contacts.
-  check_pairs(params, t, CheckRequest{!out.collision, 0.0}, seed, &terrain, kTerrainPairs,
-              out.collision ? std::numeric_limits<double>::infinity() : out.min_distance);
+  // A state already colliding needs only the terrain's contacts (and with
+  // request.all_contacts false, not even those).
+  if (out.collision && !request.all_contacts) return;
+  CheckRequest terrain_request = request;
+  terrain_request.distance = !out.collision;
+  terrain_request.rel_tolerance = 0.0;
+  // The search starts below the other pairs' exact minimum; a lower bound
+  // (verdict-only) bounds nothing, the request's cutoff does.
+  const bool exact_before = !out.collision && !out.distance_is_bound;
+  check_pairs(params, t, terrain_request, seed, &terrain, kTerrainPairs,
+              exact_before ? out.min_distance : std::numeric_limits<double>::infinity());
   if (t.collision) {
     const bool first = !out.collision;
     for (PairContact& c : t.contacts) out.contacts.push_back(std::move(c));
     out.collision = true;
     if (!first) return;
-  } else if (out.collision || t.part_a < 0 || !(t.min_distance < out.min_distance)) {
+  } else if (out.collision || (t.part_a < 0 && !t.distance_is_bound) || !(t.min_distance < out.min_distance)) {
     return;
   }
+  // The terrain pairs come closer (or are the state's first contact): their
+  // distance, exact or a lower bound, is the state's.
+  out.distance_is_bound = t.distance_is_bound;
   out.min_distance = t.min_distance;
   out.distance_tolerance = t.distance_tolerance;
   out.part_a = t.part_a;
@@ -366,12 +377,13 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       lower[k] = std::max(gap(box[a], terrain_box), carried[k]);
       if (lower[k] > 0.0) continue;
       CollideResult r;
-      collide(models_[a], *pose[a], *terrain, CollideRequest{kMaxTrianglePairsListed}, r);
+      collide(models_[a], *pose[a], *terrain, CollideRequest{request.max_triangle_pairs}, r);
       if (!r.collide) continue;
       const auto& ka = kept_[static_cast<std::size_t>(a)];
       for (auto& ij : r.triangle_pairs)
         if (!ka.empty()) ij.first = ka[ij.first];
       out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
+      if (!request.all_contacts) break;
       continue;
     }
     lower[k] = std::max(gap(box[a], box[b]), carried[k]);
@@ -395,6 +407,54 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     if (seed) seed->separation.clear();
     return;
   }
+  // Largest coordinate of a part's boxes, world and own frame (the terrain:
+  // its pyramid's root box): what the double distance's rounding scales with.
+  auto pair_magnitude = [&](int i) {
+    auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
+    if (i == terrain_index_) return mag(terrain_box.lo, terrain_box.hi);
+    const auto& l = local_boxes_[static_cast<std::size_t>(i)];
+    return std::max(mag(box[static_cast<std::size_t>(i)].lo, box[static_cast<std::size_t>(i)].hi), mag(l.first, l.second));
+  };
+  // The guard that settles a margin comparison of pair (a, b) in double.
+  auto pair_guard = [&](int a, int b) {
+    return std::max(kDistanceTolerance,
+                    64.0 * std::numeric_limits<double>::epsilon() * std::max(pair_magnitude(a), pair_magnitude(b)));
+  };
+  // Verdict-only: distances are searched only below the cutoff. It lies
+  // above exact_below by four times the largest guard G of any checked pair
+  // (the terrain's magnitude from the undisturbed terrain, so a state's
+  // terrain and other pairs share one cutoff) and the tie tolerance, so a
+  // pair the search proves beyond it has a lower bound at least
+  // exact_below + 3G (less rounding), above exact_below plus any pair's
+  // guard: no margin comparison on it can come out as a violation, and one
+  // that can is settled by an exact distance as in the full check.
+  const bool verdict_only = std::isfinite(request.exact_below);
+  double cutoff = std::numeric_limits<double>::infinity();
+  if (verdict_only) {
+    double g = kDistanceTolerance;
+    for (const PairRef& pr : pairs_) {
+      if (pr.empty) continue;
+      if (pr.b == terrain_index_) {
+        if (!terrain_) continue;
+        double lo[3], hi[3];
+        terrain_->block_box(static_cast<int>(terrain_->levels().size()) - 1, 0, 0, lo, hi);
+        const double m = std::max({std::abs(lo[0]), std::abs(lo[1]), std::abs(lo[2]), std::abs(hi[0]),
+                                   std::abs(hi[1]), std::abs(hi[2])});
+        // Twice the undisturbed root's magnitude: a dug copy reaches lower
+        // by at most a scoop's depth, far less than the terrain's extent.
+        g = std::max(g, 64.0 * std::numeric_limits<double>::epsilon() * std::max(pair_magnitude(pr.a), 2.0 * m));
+      } else {
+        g = std::max(g, pair_guard(pr.a, pr.b));
+      }
+    }
+    cutoff = request.exact_below + 4.0 * g + kDistanceTieTolerance;
+    out.min_distance = std::min(out.min_distance, cutoff);
+  }
+  // Lower bound of the pairs proven beyond the cutoff without an exact
+  // distance (verdict-only; pairs searched below an exact distance found
+  // before are settled by it, as in the full check).
+  double beyond = std::numeric_limits<double>::infinity();
+
   // What this state proves for the next: each pair's lower bound, raised
   // below where a distance search settles it. Pairs outside `which` (an
   // infinite bound) prove nothing.
@@ -430,7 +490,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     return h.pair >= 0 && static_cast<std::size_t>(h.pair) < pairs_.size() &&
            std::isfinite(lower[static_cast<std::size_t>(h.pair)]);
   };
-  if (!out.collision && !usable(hint) && request.rel_tolerance < kProbeTolerance) {
+  if (!out.collision && !usable(hint) && request.rel_tolerance < kProbeTolerance && !verdict_only) {
     // A cold start (no previous state's pair to try first). Part boxes order
     // the pairs poorly, and every pair searched under a loose bound costs
     // several times a seeded search, so a coarse pass first finds a pair
@@ -462,14 +522,6 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     const auto it = std::find(order.begin(), order.end(), static_cast<std::size_t>(hint.pair));
     std::rotate(order.begin(), it, it + 1);
   }
-  // Largest coordinate of a part's boxes, world and own frame (the terrain:
-  // its pyramid's root box): what the double distance's rounding scales with.
-  auto pair_magnitude = [&](int i) {
-    auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
-    if (i == terrain_index_) return mag(terrain_box.lo, terrain_box.hi);
-    const auto& l = local_boxes_[static_cast<std::size_t>(i)];
-    return std::max(mag(box[static_cast<std::size_t>(i)].lo, box[static_cast<std::size_t>(i)].hi), mag(l.first, l.second));
-  };
   bool first = true;
   const double shrink = 1.0 / (1.0 + request.rel_tolerance);
   for (std::size_t k : order) {
@@ -477,6 +529,9 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     const bool seeded = first && hint.pair == static_cast<int>(k) && !out.collision;
     first = false;
     if (lower[k] >= out.min_distance * shrink) {
+      // Beyond the cutoff by its box gap or carried separation (the pairs
+      // after it in order are farther still).
+      if (verdict_only && out.min_distance >= cutoff) beyond = std::min(beyond, lower[k]);
       if (seeded) continue;
       break;
     }
@@ -496,9 +551,9 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     // distance may exceed the pair's by that factor); rounding of the double
     // distance is taken off with the guard a margin test uses.
     const double settled = (r.found ? r.distance : q.upper_bound) * shrink - q.abs_tolerance;
-    const double guard = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() *
-                                                          std::max(pair_magnitude(a), pair_magnitude(b)));
+    const double guard = pair_guard(a, b);
     if (!out.collision && std::isfinite(settled)) proven[k] = std::max(proven[k], settled - guard);
+    if (verdict_only && !r.found && q.upper_bound >= cutoff) beyond = std::min(beyond, std::max(lower[k], settled - guard));
     if (r.found && r.distance < out.min_distance) {
       if (seed) {
         seed->pair = static_cast<int>(k);
@@ -512,11 +567,18 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       out.point_b = r.point_b;
     }
   }
-  if (out.collision) out.min_distance = 0.0;
-  if (out.part_a < 0) out.min_distance = std::numeric_limits<double>::infinity();
-  if (out.part_a >= 0)
-    out.distance_tolerance = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() *
-                                                              std::max(pair_magnitude(out.part_a), pair_magnitude(out.part_b)));
+  if (out.collision) {
+    out.min_distance = 0.0;
+  } else if (beyond < (out.part_a >= 0 ? out.min_distance : std::numeric_limits<double>::infinity())) {
+    // Verdict-only, and some pair is known only to lie beyond the cutoff,
+    // below any exact distance found: the state's minimum is only bounded.
+    out.min_distance = beyond;
+    out.distance_is_bound = true;
+    out.part_a = out.part_b = -1;
+    out.point_a = out.point_b = Vec3::Zero();
+  }
+  if (out.part_a < 0 && !out.distance_is_bound) out.min_distance = std::numeric_limits<double>::infinity();
+  if (out.part_a >= 0) out.distance_tolerance = pair_guard(out.part_a, out.part_b);
   store_separations();
 }
 

@@ -61,6 +61,10 @@ struct StateResult {
   // tests/stability) exceeds it: 64 eps times the largest coordinate of the
   // closest pair's boxes, in the world and in their own frames.
   double distance_tolerance = kDistanceTolerance;
+  // true when min_distance is only a certified lower bound (a verdict-only
+  // check, CheckRequest::exact_below, proved every pair beyond the margin
+  // without an exact distance); part_a/part_b are then -1.
+  bool distance_is_bound = false;
 };
 
 // What the motion from state s to state s + 1 shows (verify --continuous,
@@ -136,7 +140,19 @@ struct CheckRequest {
   // false: stop at the first colliding part pair (in checked-pair order), so
   // contacts lists that one only. The verdict is the same.
   bool all_contacts = true;
+  // Distances need be exact only below this (m; infinity: always exact). A
+  // pair proven at least this far apart (plus the guard that settles a margin
+  // comparison in double) gets no exact distance; when no pair comes closer,
+  // the state reports a certified lower bound (StateResult::distance_is_bound).
+  // Below it, distances and the verdict are those of the full check.
+  double exact_below = std::numeric_limits<double>::infinity();
 };
+
+// The verdict-only request (verify --verdict-only, the API's and Python's
+// verdict_only): the first contact only (first colliding pair in checked-pair
+// order, first triangle pair), and exact distances only below the margin.
+// The verdicts are those of the full request.
+CheckRequest verdict_only_request(double safety_margin);
 
 // Coherence between consecutive states of a plan: the previous state's
 // closest pair (checked pair and triangle slots) seeds the next state's
@@ -161,6 +177,7 @@ struct VerifyOptions {
   bool dig_carry = false;  // the terrain dug by one plan is the next plan's start
   bool regolith = true;    // run the digging and probe passes when the scene has them
   Progress* progress = nullptr;  // counts the states checked (optional; last, so {threads, carry} still reads)
+  bool verdict_only = false;     // verdict_only_request for every state (verify --verdict-only)
 };
 
 // Collision structures of a scene, built once; immutable and shared by threads.
@@ -209,8 +226,10 @@ class Checker {
   // would list), and the minimum distance moves to a terrain pair only when
   // strictly closer (or when the terrain contact is the state's first). seed
   // as in check_state, for the terrain pairs alone.
+  // With request.exact_below finite (verdict-only), as check_state would
+  // with that request.
   void check_terrain(const std::vector<double>& params, const Heightfield& terrain, StateResult& out,
-                     StateSeed* seed = nullptr) const;
+                     StateSeed* seed = nullptr, const CheckRequest& request = {}) const;
 
   // The terrain as a heightfield (nullptr: no colliding terrain) and its
   // index in the part list.
@@ -263,6 +282,7 @@ class Checker {
 
  public:
   const Digger* digger() const { return digger_.get(); }
+  double safety_margin() const { return scene_.safety_margin; }
   const ProbeCaster* probe_caster() const { return probes_.get(); }
 };
 

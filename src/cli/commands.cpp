@@ -35,6 +35,7 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
   RunInfo info;
   info.scene_arg = args.scene;
   info.threads = args.threads > 0 ? args.threads : hardware_threads();
+  info.verdict_only = args.verdict_only;
 
   auto t0 = std::chrono::steady_clock::now();
   err << "plancheck: loading " << args.scene.string() << "\n";
@@ -68,6 +69,7 @@ int run_verify(const VerifyArgs& args, std::ostream& out, std::ostream& err) {
     verify_options.threads = info.threads;
     verify_options.dig_carry = args.dig_carry;
     verify_options.progress = &progress;
+    verify_options.verdict_only = args.verdict_only;
     results = verify_plans(checker, scene, plans, verify_options);
   }
   if (args.continuous) {

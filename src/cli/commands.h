@@ -23,6 +23,7 @@ struct VerifyArgs {
   double continuous_tolerance = 0.0;  // clearance witness tolerance, scene length_unit; 0: the default
   bool html = false;         // also DIR/report.html (src/output/report_html.h)
   bool quiet = false;        // no progress on stderr
+  bool verdict_only = false; // each state's verdict and first pair at fault; distances exact only below the margin
 };
 
 struct DigArgs {

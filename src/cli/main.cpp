@@ -63,6 +63,9 @@ int main(int argc, char** argv) {
   verify_cmd->add_flag("--json", verify.json, "print report.json on stdout instead of the plan lines");
   verify_cmd->add_flag("--html", verify.html, "also write DIR/report.html: the plans replayed in 3D, one self-contained file");
   verify_cmd->add_flag("--quiet", verify.quiet, "no progress or status lines on stderr");
+  verify_cmd->add_flag("--verdict-only", verify.verdict_only,
+                       "each state's verdict and first pair at fault only: the first contact, and exact distances only "
+                       "below the margin (min_distance is otherwise a certified lower bound); verdicts as a full verify");
   verify_cmd->add_flag("--dig-carry", verify.dig_carry, "the terrain dug by one plan is where the next one starts");
   CLI::Option* continuous = verify_cmd->add_flag("--continuous", verify.continuous,
                        "also certify the motion between states (joints linear in driving parameters)");

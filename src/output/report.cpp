@@ -61,8 +61,10 @@ void print_plan_lines(const Checker& checker, const Scene& scene, const std::vec
     name.resize(width, ' ');
     char head[64];
     std::snprintf(head, sizeof head, "%-9s %5zu states", verdict_name(r.verdict), r.states.size());
-    out << name << "  " << head << "  min " << (r.min_part_a >= 0 ? num(r.min_distance / scene.length_scale) : "-")
-        << " " << scene.length_unit;
+    // A verdict-only run's minimum may be a certified lower bound only.
+    const bool bound = r.min_part_a < 0 && std::isfinite(r.min_distance);
+    out << name << "  " << head << "  min " << (bound ? ">= " : "")
+        << (r.min_part_a >= 0 || bound ? num(r.min_distance / scene.length_scale) : "-") << " " << scene.length_unit;
     if (r.min_part_a >= 0)
       out << " at state " << r.min_distance_state << " (" << pair_text(checker, r.min_part_a, r.min_part_b) << ")";
     out << "  first violation: " << violation_text(checker, scene, r);
@@ -115,6 +117,8 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
     if (segments)
       csv += ",segment_min_distance,segment_min_sampled,segment_collision,segment_clearance,segment_part_a,"
              "segment_part_b,segment_t,segment_steps";
+    // --verdict-only: each state's verdict (min_distance may be a lower bound).
+    if (info.verdict_only) csv += ",verdict";
     csv += "\n";
     const double unit3 = unit * unit * unit;
     for (std::size_t s = 0; s < r.states.size(); ++s) {
@@ -124,6 +128,8 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
         csv += num(st.min_distance / unit) + "," + checker.part_name(st.part_a) + "," + checker.part_name(st.part_b);
         for (const Vec3* p : {&st.point_a, &st.point_b})
           for (int i = 0; i < 3; ++i) csv.append(",").append(num((*p)[i] / unit));  // append: no GCC 12 -Wrestrict false alarm
+      } else if (st.distance_is_bound) {
+        csv += num(st.min_distance / unit) + ",,,,,,,,";
       } else {
         csv += ",,,,,,,,";
       }
@@ -147,6 +153,7 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
           csv += ",,,,,,,,";
         }
       }
+      if (info.verdict_only) csv.append(",").append(verdict_name(state_verdict(st, scene.safety_margin)));
       csv += "\n";
     }
     write_atomically(dir / (plan.name + ".csv"), csv);
@@ -180,8 +187,11 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
               {"verdict", verdict_name(r.verdict)},
               {"first_violation", first}};
     const bool has_min = r.min_part_a >= 0;
-    p["min_distance"] = has_min ? num_json(r.min_distance / unit) : Json(nullptr);
-    p["min_distance_state"] = has_min ? Json(r.min_distance_state) : Json(nullptr);
+    // --verdict-only: the plan's minimum may be a certified lower bound (no parts, no points).
+    const bool min_bound = !has_min && std::isfinite(r.min_distance);
+    p["min_distance"] = has_min || min_bound ? num_json(r.min_distance / unit) : Json(nullptr);
+    p["min_distance_state"] = has_min || min_bound ? Json(r.min_distance_state) : Json(nullptr);
+    if (info.verdict_only) p["min_distance_is_bound"] = min_bound;
     p["min_distance_parts"] =
         has_min ? Json::array({checker.part_name(r.min_part_a), checker.part_name(r.min_part_b)}) : Json(nullptr);
     p["min_distance_points"] =
@@ -234,6 +244,7 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
                             {"contact_tolerance", info.contact_tolerance / unit}};
     report["seconds"]["continuous"] = info.continuous_seconds;
   }
+  if (info.verdict_only) report["verdict_only"] = true;
   write_atomically(dir / "report.json", report.dump(2) + "\n");
 }
 

@@ -22,6 +22,7 @@ struct RunInfo {
   double continuous_tolerance = 0.0;  // m; 0: --continuous was not asked for
   double contact_tolerance = 0.0;     // m
   double continuous_seconds = 0.0;    // part of check_seconds spent between states
+  bool verdict_only = false;          // verify --verdict-only: distances may be lower bounds, a verdict column
 };
 
 // One line per plan, then a summary line.

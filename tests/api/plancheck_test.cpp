@@ -240,7 +240,7 @@ void check_bar_case(double scale, const std::string& unit) {
   std::vector<std::vector<double>> states;
   for (double a : kBarAngles) states.push_back({a});
   const std::vector<plancheck::StateResult> batch = checker.check_batch(states);
-  std::size_t kinds[4] = {};
+  std::size_t kinds[4] = {}, bounds = 0;
   for (std::size_t i = 0; i < kBarAngles.size(); ++i) {
     const std::string where = unit + " state " + std::to_string(kBarAngles[i]);
     const plancheck::StateResult one = checker.check(states[i]);
@@ -253,7 +253,26 @@ void check_bar_case(double scale, const std::string& unit) {
     EXPECT_EQ(plancheck::verdict_name(one.verdict), verdict) << where;
     EXPECT_EQ(batch[i].verdict, one.verdict) << where;
     ++kinds[static_cast<int>(one.verdict)];
+    // Verdict-only: the same verdict; the exact distance below the margin,
+    // a certified lower bound (no parts) where it proves the margin clear.
+    const plancheck::StateResult vo = checker.check(states[i], plancheck::CheckOptions{true});
+    EXPECT_EQ(vo.verdict, one.verdict) << where;
+    EXPECT_EQ(vo.collision, one.collision) << where;
+    EXPECT_FALSE(one.min_distance_is_bound) << where;
+    if (one.min_distance < scene.safety_margin()) {
+      EXPECT_FALSE(vo.min_distance_is_bound) << where;
+      EXPECT_NEAR(vo.min_distance, one.min_distance, 1e-12 * scale) << where;
+    }
+    if (vo.min_distance_is_bound) {
+      ++bounds;
+      EXPECT_LE(vo.min_distance, one.min_distance + 1e-12 * scale) << where;
+      EXPECT_GE(vo.min_distance, scene.safety_margin()) << where;
+      EXPECT_TRUE(vo.part_a.empty()) << where;
+    }
   }
+  EXPECT_GT(bounds, 0u) << unit;
+  const auto vo_batch = checker.check_batch(states, plancheck::CheckOptions{true});
+  for (std::size_t i = 0; i < states.size(); ++i) EXPECT_EQ(vo_batch[i].verdict, batch[i].verdict) << unit << " " << i;
   // The stiff states cover every verdict.
   for (int k = 0; k < 4; ++k) EXPECT_GT(kinds[k], 0u) << unit << " verdict " << k;
 }
@@ -406,7 +425,10 @@ TEST(ApiDataset, DefaultPlansEqualVerify) {
   std::vector<std::vector<double>> picked;
   std::string one_state_plans;
   std::string header;
-  for (const std::string& name : scene.parameter_names()) header += (header.empty() ? "" : ",") + name;
+  for (const std::string& name : scene.parameter_names()) {
+    if (!header.empty()) header += ',';
+    header += name;
+  }
   const fs::path single = t.path / "single";
   fs::create_directories(single);
   std::size_t k = 0;
@@ -417,7 +439,8 @@ TEST(ApiDataset, DefaultPlansEqualVerify) {
         char value[32];
         for (std::size_t j = 0; j < state.size(); ++j) {
           std::snprintf(value, sizeof value, "%.17g", state[j]);
-          text += (j ? "," : "") + std::string(value);
+          if (j) text += ',';
+          text += value;
         }
         const fs::path plan = single / ("s" + std::to_string(10000 + picked.size()) + ".csv");
         write_text(plan, text + "\n");

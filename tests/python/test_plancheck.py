@@ -134,8 +134,20 @@ class ModuleTest(unittest.TestCase):
         expect_rows(self, r, rows, unit)
         self.assertEqual([VERDICTS[int(v)] for v in r.verdict], [p["verdict"] for p in report["plans"]])
         self.assertEqual(set(int(v) for v in r.verdict), {0, 1, 2, 3})
-        # verdict_only runs the full check for now (issue 16): the same verdicts.
-        np.testing.assert_array_equal(scene.check(states, verdict_only=True).verdict, r.verdict)
+        # verdict_only: the same verdicts; exact distances below the margin,
+        # elsewhere exact or a certified lower bound (then no pair named).
+        v = scene.check(states, verdict_only=True)
+        np.testing.assert_array_equal(v.verdict, r.verdict)
+        np.testing.assert_array_equal(v.collision, r.collision)
+        self.assertFalse(r.min_distance_is_bound.any())
+        below = r.min_distance < scene.safety_margin
+        np.testing.assert_allclose(v.min_distance[below], r.min_distance[below], rtol=0, atol=1e-12 * scale)
+        self.assertFalse(v.min_distance_is_bound[below].any())
+        bound = v.min_distance_is_bound
+        self.assertTrue(bound.any())  # the far states need no exact distance
+        self.assertTrue((v.min_distance[bound] <= r.min_distance[bound] + 1e-12 * scale).all())
+        self.assertTrue((v.min_distance[bound] >= scene.safety_margin).all())
+        self.assertTrue((v.part_a[bound] == -1).all())
         # One state per call gives the batch's answers.
         for i in range(len(BAR_ANGLES)):
             one = scene.check(states[i:i + 1])
@@ -227,6 +239,8 @@ class DatasetTest(unittest.TestCase):
                 r = scene.check(states)
                 expect_rows(self, r, read_rows(pathlib.Path(tmp) / "out" / (plan["name"] + ".csv")), plan["name"],
                             tie_points=True)
+                v = scene.check(states, verdict_only=True)
+                np.testing.assert_array_equal(v.verdict, r.verdict, plan["name"])
                 bad = np.flatnonzero(r.verdict != 0)
                 fv = plan["first_violation"]
                 if len(bad):

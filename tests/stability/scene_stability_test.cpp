@@ -90,19 +90,6 @@ TEST(SceneStability, LimitsStillSeeTheAngleAsWritten) {
 
 // --- the scene far from the origin ---------------------------------------
 
-// Every length in the scene moved by t (in double, through the API).
-Scene translated(const Scene& s, const Vec3& t) {
-  Scene out = s;
-  for (Part& p : out.parts)
-    for (Vec3& v : p.mesh.vertices) v += t;
-  for (Action& a : out.actions) {
-    a.pivot += t;
-    a.fixed_point += t;
-  }
-  for (Node& n : out.nodes) n.origin += t;
-  return out;
-}
-
 TEST(SceneStability, LunarRadiusTranslationKeepsFlagsAndDistances) {
   BarScene s;
   const auto states = s.states({"0", "360", "-0.001", "-0.0001", "-1", "-30", "0.001", "5", "-90", "45", "-1e-9"});

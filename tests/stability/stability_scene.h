@@ -41,6 +41,19 @@ struct BarScene {
   }
 };
 
+// Every length in the scene moved by t (in double, through the API).
+inline Scene translated(const Scene& s, const Vec3& t) {
+  Scene out = s;
+  for (Part& p : out.parts)
+    for (Vec3& v : p.mesh.vertices) v += t;
+  for (Action& a : out.actions) {
+    a.pivot += t;
+    a.fixed_point += t;
+  }
+  for (Node& n : out.nodes) n.origin += t;
+  return out;
+}
+
 inline StateResult check(const Checker& c, const std::vector<double>& params) {
   StateResult r;
   c.check_state(params, r);

@@ -82,6 +82,19 @@ struct StateResult {
   // verify's CSV `limits` column names it.
   std::string limits;
   Verdict verdict = Verdict::kSafe;
+  // A verdict-only check (CheckOptions::verdict_only) that proved every pair
+  // beyond the margin without an exact distance: min_distance is then a
+  // certified lower bound, and part_a/part_b and the points are empty.
+  bool min_distance_is_bound = false;
+};
+
+// What a check computes. The verdict is the same either way.
+struct CheckOptions {
+  // false (default): verify's full answer (every colliding pair, the exact
+  // minimum distance and its points). true: verify --verdict-only's: the
+  // first colliding pair only, and exact distances only below the safety
+  // margin (min_distance_is_bound otherwise). Faster, most on safe states.
+  bool verdict_only = false;
 };
 
 // What Scene::load reads beside the scene file (the command line's --srdf
@@ -130,15 +143,18 @@ class PLANCHECK_API Checker {
   // Throws Error if the count is wrong, a value is not finite, or a scale
   // factor is not positive.
   StateResult check(const std::vector<double>& state) const;
+  StateResult check(const std::vector<double>& state, const CheckOptions& options) const;
 
   // Checks many independent states on all the checker's threads; result i is
   // check(states[i]). Throws Error naming the first bad state (by index)
   // before anything is checked.
   std::vector<StateResult> check_batch(const std::vector<std::vector<double>>& states) const;
+  std::vector<StateResult> check_batch(const std::vector<std::vector<double>>& states, const CheckOptions& options) const;
 
   // The same over `count` states stored row by row (count x parameter count
   // doubles, C order) into out[0..count). For callers holding a matrix.
   void check_batch(const double* states, std::size_t count, StateResult* out) const;
+  void check_batch(const double* states, std::size_t count, StateResult* out, const CheckOptions& options) const;
 
   // Parts as StateResult indexes them: the scene's parts, then "terrain"
   // when the terrain collides.
