@@ -4,7 +4,8 @@
 // same states (one thread: FCL has no threading of its own), the paper's
 // seconds and the ratios. Every answer is checked before anything is timed:
 // plancheck's collision flags must equal FCL's state by state and its
-// distances agree within 1e-9 m, else the run stops with status 3.
+// distances agree within 1e-9 m, and the verdict-only query's verdicts equal
+// the full check's, else the run stops with status 3.
 //
 // With --random N the states are N configurations drawn uniformly within the
 // action limits instead, each checked on its own (cold: no state seeds
@@ -73,16 +74,20 @@ void check_cold(const Checker& checker, const std::vector<std::vector<double>>& 
   });
 }
 
-// The full check (collision and exact distance) of some groups, as their
-// user gets it: plans through verify_plans as `plancheck verify` runs them
-// (regolith off: the same work FCL does), cold states through check_cold.
-void check_full(const Checker& checker, const Scene& scene, const std::vector<Plan>& groups, bool cold,
-                int threads) {
+// The full check (collision and exact distance), or with verdict_only the
+// verdict-only one (verdict_only_request), of some groups, as their user gets
+// it: plans through verify_plans as `plancheck verify` runs them (regolith
+// off: the same work FCL does), cold states through check_cold.
+void check_groups(const Checker& checker, const Scene& scene, const std::vector<Plan>& groups, bool cold,
+                  int threads, bool verdict_only = false) {
   if (!cold) {
-    verify_plans(checker, scene, groups, VerifyOptions{threads, false, false});
+    VerifyOptions o{threads, false, false};
+    o.verdict_only = verdict_only;
+    verify_plans(checker, scene, groups, o);
     return;
   }
-  for (const Plan& g : groups) check_cold(checker, g.states, threads, CheckRequest{});
+  const CheckRequest request = verdict_only ? verdict_only_request(scene.safety_margin) : CheckRequest{};
+  for (const Plan& g : groups) check_cold(checker, g.states, threads, request);
 }
 
 struct Row {
@@ -91,6 +96,7 @@ struct Row {
   int colliding = 0;
   double pc_1 = 0, pc_2 = 0;            // plancheck collision + distance, 1 and 2 threads (s)
   double pc_collide_1 = 0;              // plancheck collision only, 1 thread (s)
+  double pc_verdict_1 = 0;              // plancheck verdict only (verdict_only_request), 1 thread (s)
   double fcl = 0, fcl_collide = 0;      // FCL, 1 thread (s)
   std::optional<double> paper;          // s
 };
@@ -109,12 +115,13 @@ struct Answers {
 };
 
 // Every state's full check, and what must agree with it: the collision-only
-// query's flag, and FCL's flag and distance (when fcl is given). States are
-// checked from nothing here whatever the workload: answers never depend on
-// coherence.
-Answers check_answers(const Checker& checker, const FclPeer* fcl, const std::vector<Plan>& groups,
-                      std::vector<Row>& rows) {
+// query's flag, the verdict-only query's verdict, and FCL's flag and distance
+// (when fcl is given). States are checked from nothing here whatever the
+// workload: answers never depend on coherence.
+Answers check_answers(const Checker& checker, const Scene& scene, const FclPeer* fcl,
+                      const std::vector<Plan>& groups, std::vector<Row>& rows) {
   Answers a;
+  const CheckRequest verdict_request = verdict_only_request(scene.safety_margin);
   a.exact.resize(groups.size());
   for (std::size_t p = 0; p < groups.size(); ++p) {
     const Plan& g = groups[p];
@@ -129,9 +136,14 @@ Answers check_answers(const Checker& checker, const FclPeer* fcl, const std::vec
         ++a.mismatches;
         std::cerr << "MISMATCH " << g.name << " state " << s << ": collision-only query differs\n";
       }
-      // TODO(issue 16 part 1): the verdict-only request, once
-      // verdict_only_request() is on main: its verdict must equal
-      // state_verdict(r, margin) here, and it gets a timed column below.
+      StateResult v;
+      checker.check_state(g.states[s], v, verdict_request);
+      if (state_verdict(v, scene.safety_margin) != state_verdict(r, scene.safety_margin)) {
+        ++a.mismatches;
+        std::cerr << "MISMATCH " << g.name << " state " << s << ": verdict-only query says "
+                  << verdict_name(state_verdict(v, scene.safety_margin)) << ", the full check "
+                  << verdict_name(state_verdict(r, scene.safety_margin)) << "\n";
+      }
       if (!fcl) continue;
       const auto f = fcl->check(g.states[s], true);
       const auto fc = fcl->check(g.states[s], false);
@@ -231,7 +243,7 @@ int run_table3(int argc, char** argv) {
 
     // 1. Answers first: exact plancheck against FCL, state by state.
     std::cerr << "table3: checking answers on " << total_states << " states\n";
-    const Answers answers = check_answers(*checker, fcl.get(), groups, rows);
+    const Answers answers = check_answers(*checker, scene, fcl.get(), groups, rows);
     if (answers.mismatches > 0) {
       std::cerr << "table3: " << answers.mismatches << " states disagree; nothing timed\n";
       return 3;
@@ -243,18 +255,18 @@ int run_table3(int argc, char** argv) {
     std::cerr << "table3: timing plancheck (" << reps << " repetitions, median)\n";
     for (std::size_t p = 0; p < groups.size(); ++p) {
       const std::vector<Plan> one{groups[p]};
-      rows[p].pc_1 = median_seconds(reps, [&] { check_full(*checker, scene, one, work.cold, 1); });
-      rows[p].pc_2 = median_seconds(reps, [&] { check_full(*checker, scene, one, work.cold, 2); });
+      rows[p].pc_1 = median_seconds(reps, [&] { check_groups(*checker, scene, one, work.cold, 1); });
+      rows[p].pc_2 = median_seconds(reps, [&] { check_groups(*checker, scene, one, work.cold, 2); });
       rows[p].pc_collide_1 =
           median_seconds(reps, [&] { check_cold(*checker, groups[p].states, 1, CheckRequest{false, 0.0}); });
-      // TODO(issue 16 part 1): the verdict-only column goes here.
+      rows[p].pc_verdict_1 = median_seconds(reps, [&] { check_groups(*checker, scene, one, work.cold, 1, true); });
     }
     // The whole workload in one call, as `plancheck verify` runs it (plans
     // only: cold states have no plan boundaries, their one group is all).
     double all_1 = rows[0].pc_1, all_2 = rows[0].pc_2;
     if (!work.cold || groups.size() > 1) {
-      all_1 = median_seconds(reps, [&] { check_full(*checker, scene, groups, work.cold, 1); });
-      all_2 = median_seconds(reps, [&] { check_full(*checker, scene, groups, work.cold, 2); });
+      all_1 = median_seconds(reps, [&] { check_groups(*checker, scene, groups, work.cold, 1); });
+      all_2 = median_seconds(reps, [&] { check_groups(*checker, scene, groups, work.cold, 2); });
     }
 
     if (fcl) {
@@ -314,6 +326,7 @@ int run_table3(int argc, char** argv) {
       total.pc_1 += r.pc_1;
       total.pc_2 += r.pc_2;
       total.pc_collide_1 += r.pc_collide_1;
+      total.pc_verdict_1 += r.pc_verdict_1;
       total.fcl += r.fcl;
       total.fcl_collide += r.fcl_collide;
       if (r.paper) paper_total += *r.paper; else have_paper = false;
@@ -341,14 +354,15 @@ int run_table3(int argc, char** argv) {
     out << "plancheck: exact collision + exact minimum distance per state; median of " << reps << " runs\n";
     if (fcl) out << "FCL 0.7 OBBRSS, 1 thread, collide then distance with a shared DistanceResult; median of " << fcl_reps << " runs\n";
     out << "\n| " << (work.cold ? "states" : "plan")
-        << " | states | colliding | plancheck 1T s | plancheck 2T s | 2T/1T speed-up | FCL s | FCL/plancheck 1T | plancheck collide 1T s | FCL collide s | FCL/plancheck collide | paper s | paper/plancheck 2T |\n";
-    out << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        << " | states | colliding | plancheck 1T s | plancheck 2T s | 2T/1T speed-up | FCL s | FCL/plancheck 1T | plancheck collide 1T s | FCL collide s | FCL/plancheck collide | plancheck verdict-only 1T s | FCL collide/plancheck verdict-only | paper s | paper/plancheck 2T |\n";
+    out << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     auto line = [&](const Row& r) {
       out << "| " << r.name << " | " << r.states << " | " << r.colliding << " | " << fmt(r.pc_1, "%.4f") << " | "
           << fmt(r.pc_2, "%.4f") << " | " << fmt(r.pc_1 / r.pc_2, "%.2f") << " | "
           << (fcl ? fmt(r.fcl, "%.3f") : "-") << " | " << (fcl ? fmt(r.fcl / r.pc_1, "%.1f") : "-") << " | "
           << fmt(r.pc_collide_1, "%.4f") << " | " << (fcl ? fmt(r.fcl_collide, "%.4f") : "-") << " | "
-          << (fcl ? fmt(r.fcl_collide / r.pc_collide_1, "%.1f") : "-") << " | "
+          << (fcl ? fmt(r.fcl_collide / r.pc_collide_1, "%.1f") : "-") << " | " << fmt(r.pc_verdict_1, "%.4f")
+          << " | " << (fcl ? fmt(r.fcl_collide / r.pc_verdict_1, "%.1f") : "-") << " | "
           << (r.paper ? fmt(*r.paper, "%.2f") : "-") << " | " << (r.paper ? fmt(*r.paper / r.pc_2, "%.0f") : "-")
           << " |\n";
     };
@@ -402,12 +416,14 @@ int run_table3(int argc, char** argv) {
                             {"colliding_states", r.colliding},
                             {"plancheck_seconds_1_thread", r.pc_1},
                             {"plancheck_seconds_2_threads", r.pc_2},
-                            {"plancheck_collide_seconds_1_thread", r.pc_collide_1}};
+                            {"plancheck_collide_seconds_1_thread", r.pc_collide_1},
+                            {"plancheck_verdict_only_seconds_1_thread", r.pc_verdict_1}};
         if (fcl) {
           x["fcl_seconds"] = r.fcl;
           x["fcl_collide_seconds"] = r.fcl_collide;
           x["fcl_over_plancheck_1_thread"] = r.fcl / r.pc_1;
           x["fcl_over_plancheck_collide"] = r.fcl_collide / r.pc_collide_1;
+          x["fcl_collide_over_plancheck_verdict_only"] = r.fcl_collide / r.pc_verdict_1;
         }
         if (r.paper) {
           x["paper_seconds"] = *r.paper;

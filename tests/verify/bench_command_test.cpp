@@ -47,7 +47,8 @@ TEST(BenchCommand, SmallSceneAgreesWithFclAndWritesJson) {
 }
 
 // --random: cold states drawn within the limits go through the same answer
-// check against FCL and write the spec's `total` keys.
+// check against FCL (and verdict-only verdicts against the full check's)
+// and write the spec's `total` keys.
 TEST(BenchCommand, RandomColdStatesAgreeWithFclAndWriteTheKeys) {
   if (!std::filesystem::exists(kBench)) GTEST_SKIP() << "plancheck_bench not built";
   TempDir dir("bench_random");
@@ -75,7 +76,8 @@ TEST(BenchCommand, RandomColdStatesAgreeWithFclAndWriteTheKeys) {
   EXPECT_GT(t["colliding_states"].get<int>(), 0);
   EXPECT_LT(t["colliding_states"].get<int>(), 50);
   for (const char* key : {"plancheck_seconds_1_thread", "plancheck_seconds_2_threads", "fcl_seconds",
-                          "fcl_collide_seconds", "plancheck_collide_seconds_1_thread", "fcl_over_plancheck_1_thread"})
+                          "fcl_collide_seconds", "plancheck_collide_seconds_1_thread", "fcl_over_plancheck_1_thread",
+                          "plancheck_verdict_only_seconds_1_thread", "fcl_collide_over_plancheck_verdict_only"})
     EXPECT_TRUE(t.contains(key) && t[key].is_number()) << key;
   // The same seed draws the same states.
   ASSERT_EQ(run_command(cmd), 0);
