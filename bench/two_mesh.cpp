@@ -21,8 +21,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <iostream>
+#include <limits>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <string>
