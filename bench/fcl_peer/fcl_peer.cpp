@@ -9,6 +9,29 @@
 
 namespace plancheck::reference {
 
+namespace {
+
+std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> obbrss_model(const Mesh& mesh) {
+  auto m = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
+  std::vector<fcl::Vector3d> v(mesh.vertices.begin(), mesh.vertices.end());
+  std::vector<fcl::Triangle> t;
+  t.reserve(mesh.triangles.size());
+  for (const Tri& tri : mesh.triangles) t.emplace_back(tri[0], tri[1], tri[2]);
+  m->beginModel();
+  m->addSubModel(v, t);
+  m->endModel();
+  return m;
+}
+
+fcl::Transform3d fcl_transform(const Affine& t) {
+  fcl::Transform3d f = fcl::Transform3d::Identity();
+  f.linear() = t.linear();
+  f.translation() = t.translation();
+  return f;
+}
+
+}  // namespace
+
 struct FclPeer::Impl {
   const Scene* scene = nullptr;
   std::vector<std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>>> models;
@@ -26,14 +49,7 @@ FclPeer::FclPeer(const Scene& scene, const std::vector<const Mesh*>& meshes,
   impl_->scene = &scene;
   impl_->pairs = std::move(pairs);
   for (std::size_t i = 0; i < meshes.size(); ++i) {
-    auto m = std::make_shared<fcl::BVHModel<fcl::OBBRSSd>>();
-    std::vector<fcl::Vector3d> v(meshes[i]->vertices.begin(), meshes[i]->vertices.end());
-    std::vector<fcl::Triangle> t;
-    t.reserve(meshes[i]->triangles.size());
-    for (const Tri& tri : meshes[i]->triangles) t.emplace_back(tri[0], tri[1], tri[2]);
-    m->beginModel();
-    m->addSubModel(v, t);
-    m->endModel();
+    auto m = obbrss_model(*meshes[i]);
     impl_->models.push_back(m);
     impl_->objects.push_back(std::make_unique<fcl::CollisionObjectd>(m));
     impl_->chain.push_back(i < scene.parts.size() && scene.parts[i].moving() ? scene.parts[i].chain_id
@@ -61,11 +77,7 @@ FclPeer::Answer FclPeer::check(const std::vector<double>& params, bool with_dist
   for (std::size_t i = 0; i < im.objects.size(); ++i) {
     const int c = im.chain[i];
     if (c < 0) continue;  // static parts keep the identity set at construction
-    const Affine& t = im.chains[static_cast<std::size_t>(c)];
-    fcl::Transform3d f = fcl::Transform3d::Identity();
-    f.linear() = t.linear();
-    f.translation() = t.translation();
-    im.objects[i]->setTransform(f);
+    im.objects[i]->setTransform(fcl_transform(im.chains[static_cast<std::size_t>(c)]));
     im.objects[i]->computeAABB();
   }
   Answer answer;
@@ -97,6 +109,37 @@ FclPeer::Answer FclPeer::check(const std::vector<double>& params, bool with_dist
     answer.distance = std::min(answer.distance, dres.min_distance);
   }
   if (!with_distance && !answer.collision) answer.distance = std::numeric_limits<double>::infinity();
+  return answer;
+}
+
+struct FclMeshPair::Impl {
+  std::shared_ptr<fcl::BVHModel<fcl::OBBRSSd>> a, b;
+};
+
+FclMeshPair::FclMeshPair(const Mesh& a, const Mesh& b) : impl_(std::make_unique<Impl>()) {
+  impl_->a = obbrss_model(a);
+  impl_->b = obbrss_model(b);
+}
+
+FclMeshPair::~FclMeshPair() = default;
+
+FclAnswer FclMeshPair::check(const Affine& ta, const Affine& tb, bool with_distance) const {
+  const fcl::Transform3d fa = fcl_transform(ta), fb = fcl_transform(tb);
+  FclAnswer answer;
+  answer.distance = std::numeric_limits<double>::infinity();
+  fcl::CollisionRequestd creq;
+  fcl::CollisionResultd cres;
+  fcl::collide(impl_->a.get(), fa, impl_->b.get(), fb, creq, cres);
+  if (cres.isCollision()) {
+    answer.collision = true;
+    answer.distance = 0.0;
+    return answer;
+  }
+  if (!with_distance) return answer;
+  fcl::DistanceRequestd dreq;
+  fcl::DistanceResultd dres;
+  fcl::distance(impl_->a.get(), fa, impl_->b.get(), fb, dreq, dres);
+  answer.distance = dres.min_distance;
   return answer;
 }
 

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -20,11 +21,17 @@ int run_bench(const std::vector<std::string>& args, std::ostream& err) {
   if (!fs::exists(bench)) {
     err << "plancheck: bench: " << bench.string()
         << " not found; build it (cmake -DPLANCHECK_BUILD_BENCH=ON, needs FCL and Google Benchmark) and run\n"
-           "  plancheck_bench table3 SCENE.json [PLAN.csv...] [--json FILE] [--fcl]\n";
+           "  plancheck_bench table3 SCENE.json [PLAN.csv... | --random N [--seed S]] [--json FILE] [--fcl]\n"
+           "  plancheck_bench two_mesh [--poses N] [--seed S] [--json FILE]\n";
     return 2;
   }
-  std::vector<std::string> words{bench.string(), "table3"};
-  words.insert(words.end(), args.begin(), args.end());
+  // --two-mesh picks the two-mesh random-pose case; everything else is table3's.
+  std::vector<std::string> rest = args;
+  const auto two_mesh = std::find(rest.begin(), rest.end(), "--two-mesh");
+  const bool is_two_mesh = two_mesh != rest.end();
+  if (is_two_mesh) rest.erase(two_mesh);
+  std::vector<std::string> words{bench.string(), is_two_mesh ? "two_mesh" : "table3"};
+  words.insert(words.end(), rest.begin(), rest.end());
   std::vector<char*> argv;
   for (std::string& w : words) argv.push_back(w.data());
   argv.push_back(nullptr);

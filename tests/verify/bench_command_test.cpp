@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// `plancheck bench` runs plancheck_bench table3, which checks every state
-// against FCL before timing: on a small scene it must agree (exit 0) and
-// write its JSON; bad input exits 2. Timings are printed, never asserted.
+// `plancheck bench` runs plancheck_bench table3 (plans or --random cold
+// states) or two_mesh (--two-mesh), which check every answer against FCL
+// before timing: they must agree (exit 0) and write their JSON; bad input
+// exits 2. Timings are printed, never asserted.
 #include "support/fixtures.h"
 
 #include <gtest/gtest.h>
@@ -43,6 +44,70 @@ TEST(BenchCommand, SmallSceneAgreesWithFclAndWritesJson) {
   // The tolerance table's errors stay within their bound (the bench exits 3 otherwise).
   ASSERT_EQ(j["tolerance"].size(), 2u);
   EXPECT_EQ(j["tolerance"][0]["max_abs_error"].get<double>(), 0.0);
+}
+
+// --random: cold states drawn within the limits go through the same answer
+// check against FCL (and verdict-only verdicts against the full check's)
+// and write the spec's `total` keys.
+TEST(BenchCommand, RandomColdStatesAgreeWithFclAndWriteTheKeys) {
+  if (!std::filesystem::exists(kBench)) GTEST_SKIP() << "plancheck_bench not built";
+  TempDir dir("bench_random");
+  testing::write_obj(dir / "model.obj", {{"Slab", testing::box_mesh({-3, -1, -1}, {3, 1, 0})},
+                                         {"Bar", testing::box_mesh({0, -0.1, 0.9}, {2, 0.1, 1.1})}});
+  write_text(dir / "scene.json", R"({
+  "format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m", "angle_unit": "deg",
+  "actions": [{"name": "J1", "node": "Bar", "type": "rotate", "pivot": [0, 0, 1], "axis": [0, 1, 0], "limits": [-10, 60]}],
+  "safety_margin": 0.05
+})");
+  const std::string json = (dir / "r.json").string();
+  const std::string cmd = kPlancheck + " bench " + (dir / "scene.json").string() +
+                          " --random 50 --seed 3 --fcl --repetitions 1 --tolerances 0 --json " + json +
+                          " >/dev/null 2>&1";
+  ASSERT_EQ(run_command(cmd), 0);
+  const auto j = nlohmann::json::parse(testing::read_text(json));
+  EXPECT_EQ(j["mode"], "random");
+  EXPECT_EQ(j["seed"], 3);
+  EXPECT_EQ(j["drawn_parameters"], nlohmann::json::array({"J1"}));
+  EXPECT_TRUE(j["answers_checked_against_fcl"].get<bool>());
+  EXPECT_LE(j["max_distance_difference_vs_fcl"].get<double>(), 1e-9);
+  const auto& t = j["total"];
+  EXPECT_EQ(t["states"], 50);
+  // J1 beyond about 27 degrees takes the bar into the slab: both answers occur.
+  EXPECT_GT(t["colliding_states"].get<int>(), 0);
+  EXPECT_LT(t["colliding_states"].get<int>(), 50);
+  for (const char* key : {"plancheck_seconds_1_thread", "plancheck_seconds_2_threads", "fcl_seconds",
+                          "fcl_collide_seconds", "plancheck_collide_seconds_1_thread", "fcl_over_plancheck_1_thread",
+                          "plancheck_verdict_only_seconds_1_thread", "fcl_collide_over_plancheck_verdict_only"})
+    EXPECT_TRUE(t.contains(key) && t[key].is_number()) << key;
+  // The same seed draws the same states.
+  ASSERT_EQ(run_command(cmd), 0);
+  EXPECT_EQ(nlohmann::json::parse(testing::read_text(json))["total"]["colliding_states"], t["colliding_states"]);
+  // Plans and --random together are refused.
+  write_text(dir / "p.csv", "J1\n0\n");
+  EXPECT_EQ(run_command(kPlancheck + " bench " + (dir / "scene.json").string() + " " + (dir / "p.csv").string() +
+                        " --random 5 >/dev/null 2>&1"),
+            2);
+}
+
+// --two-mesh: the random-pose case agrees with FCL (exit 0) and writes its keys.
+TEST(BenchCommand, TwoMeshAgreesWithFclAndWritesJson) {
+  if (!std::filesystem::exists(kBench)) GTEST_SKIP() << "plancheck_bench not built";
+  TempDir dir("bench_two_mesh");
+  const std::string json = (dir / "m.json").string();
+  ASSERT_EQ(run_command(kPlancheck + " bench --two-mesh --poses 100 --repetitions 1 --fcl-repetitions 1 --json " +
+                        json + " >/dev/null 2>&1"),
+            0);
+  const auto j = nlohmann::json::parse(testing::read_text(json));
+  EXPECT_EQ(j["triangles"]["environment"], 2000);
+  EXPECT_EQ(j["triangles"]["object"], 192);
+  EXPECT_LE(j["max_distance_difference_vs_fcl"].get<double>(), 1e-9);
+  const auto& t = j["total"];
+  EXPECT_EQ(t["poses"], 100);
+  EXPECT_GT(t["colliding_poses"].get<int>(), 0);
+  EXPECT_LT(t["colliding_poses"].get<int>(), 100);
+  for (const char* key : {"plancheck_seconds_1_thread", "plancheck_collide_seconds_1_thread", "fcl_seconds",
+                          "fcl_collide_seconds", "fcl_over_plancheck_1_thread", "fcl_over_plancheck_collide"})
+    EXPECT_TRUE(t.contains(key) && t[key].is_number()) << key;
 }
 
 TEST(BenchCommand, MissingSceneExitsTwo) {
