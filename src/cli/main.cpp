@@ -104,7 +104,7 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
 
   CLI::App* bench_cmd = app.add_subcommand(
-      "bench", "reproduce the paper's Table 3 beside FCL: SCENE [PLAN...] [--json FILE] [--fcl] (runs plancheck_bench)");
+      "bench", "reproduce the paper's Table 3 beside FCL: SCENE [PLAN... | --random N [--seed S]] [--json FILE] [--fcl]; --two-mesh [--poses N] (runs plancheck_bench)");
   bench_cmd->allow_extras();
   bench_cmd->prefix_command();
 
