@@ -12,6 +12,7 @@
 #include "src/checks/continuous.h"
 
 #include "src/base/parallel.h"
+#include "src/checks/regolith.h"
 #include "src/scene/plan.h"
 
 #include <algorithm>

@@ -7,6 +7,7 @@
 
 #include "src/base/parallel.h"
 #include "src/base/progress.h"
+#include "src/checks/regolith.h"
 
 #include <algorithm>
 #include <chrono>

@@ -7,7 +7,7 @@
 // allowed to touch the terrain; every other part meets the pit and rim).
 // dig_along_plans is that walk on its own: verify --continuous takes it again
 // to check the motion after state s against the same copy.
-#include "src/checks/verify.h"
+#include "src/checks/regolith.h"
 
 #include "src/base/parallel.h"
 

@@ -6,7 +6,7 @@
 // action depends on its own parameters only), composed along each chain.
 #pragma once
 
-#include "src/cli/sweep.h"
+#include "src/checks/sweep_grid.h"
 #include "src/checks/verify.h"
 
 #include <cstdint>

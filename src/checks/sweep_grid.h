@@ -1,0 +1,32 @@
+// SPDX-License-Identifier: MIT
+// The grid of a configuration sweep (plancheck sweep, sweep.html): one axis
+// per swept driving parameter, its values as written.
+#pragma once
+
+#include "src/scene/scene.h"
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace plancheck {
+
+// Most configurations one sweep may ask for (its CSV has a row for each).
+inline constexpr std::size_t kMaxSweepConfigurations = 20'000'000;
+
+// One swept driving parameter and its values.
+struct SweepAxis {
+  int parameter = -1;               // index into Scene::parameter_names
+  std::vector<double> values;       // as written (plan units, like a plan column), in sweep order
+  std::string spec;                 // as the user wrote it, or "limits"
+};
+
+// The grid from `--steps N`: N values over the limits of every driving
+// parameter whose action has limits (others stay at their reference value).
+std::vector<SweepAxis> sweep_axes_from_steps(const Scene& scene, long steps);
+
+// The grid from `--grid "J1=-180:180:5,J2=0:90:10"` (plan units; parameters
+// not named stay at their reference value). Throws InputError naming the item.
+std::vector<SweepAxis> sweep_axes_from_grid(const Scene& scene, const std::string& grid);
+
+}  // namespace plancheck
