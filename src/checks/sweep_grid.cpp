@@ -103,8 +103,8 @@ std::vector<SweepAxis> sweep_axes_from_grid(const Scene& scene, const std::strin
     // The last value is FROM + k STEP <= TO, with a slack of 1e-9 steps so
     // that decimal steps (0.1) reach a TO they land on.
     const double n = std::floor((to - from) / step + 1e-9);
-    if (!(n < static_cast<double>(kMaxSweepConfigurations)))
-      grid_error(item, "more than " + std::to_string(kMaxSweepConfigurations) + " values");
+    if (!(n < static_cast<double>(kMaxSweepAxisValues)))
+      grid_error(item, "more than " + std::to_string(kMaxSweepAxisValues) + " values");
     SweepAxis axis;
     axis.parameter = parameter;
     const Action* owner = parameter_action(scene, parameter);

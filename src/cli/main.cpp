@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
   std::string sweep_grid;
   std::string sweep_out = "plancheck-sweep";
   CLI::App* sweep_cmd = app.add_subcommand(
-      "sweep", "check a grid of configurations: DIR/sweep.csv per configuration, DIR/sweep.json summary");
+      "sweep", "check a grid of configurations: DIR/verdict.npy, DIR/distance.npy (NumPy), DIR/sweep.json summary");
   sweep_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
   add_robot_options(sweep_cmd, srdf, packages);
   CLI::Option* steps_opt = sweep_cmd->add_option(
@@ -98,7 +98,10 @@ int main(int argc, char** argv) {
   CLI::Option* grid_opt = sweep_cmd->add_option(
       "--grid", sweep_grid, "NAME=FROM:TO:STEP,... in plan units; parameters not named keep their reference value");
   steps_opt->excludes(grid_opt);
-  sweep_cmd->add_option("--out", sweep_out, "folder for sweep.csv and sweep.json")->capture_default_str();
+  sweep_cmd->add_option("--out", sweep_out, "folder for the outputs")->capture_default_str();
+  sweep_cmd->add_flag("--csv", sweep.csv, "also write DIR/sweep.csv, one row per configuration");
+  sweep_cmd->add_flag("--exact-distance", sweep.exact_distance,
+                      "distance.npy exact at every configuration (today every configuration is checked exactly anyway)");
   sweep_cmd->add_flag("--html", sweep.html, "also write DIR/sweep.html: verdict heat maps, the arm, safe targets; one self-contained file");
   sweep_cmd->add_flag("--quiet", sweep.quiet, "no progress or status lines on stderr");
   sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // plancheck sweep (src/cli/sweep.h): load, parse the grid, build the
-// checker, check every configuration into sweep.csv, then sweep.json,
-// sweep.html and the stdout summary.
+// checker, check every configuration into verdict.npy, distance.npy (and
+// sweep.csv with --csv), then sweep.json, sweep.html and the stdout summary.
 #include "src/cli/sweep.h"
 
 #include "src/base/error.h"
@@ -9,6 +9,7 @@
 #include "src/base/progress.h"
 #include "src/checks/sweep_grid.h"
 #include "src/checks/verify.h"
+#include "src/output/npy.h"
 #include "src/output/sweep_html.h"
 #include "src/scene/plan.h"
 #include "src/scene/scene_loader.h"
@@ -23,6 +24,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <ostream>
 #include <utility>
 #include <vector>
@@ -90,7 +92,34 @@ Grid parse_grid(const Scene& scene, const SweepArgs& args) {
     grid.total *= a.values.size();
   }
   grid.reference = scene.reference_parameters;
+  if (args.html && grid.total > kMaxSweepPageConfigurations)
+    throw InputError("--html: sweep.html holds at most " + std::to_string(kMaxSweepPageConfigurations) +
+                     " configurations, this grid has " + std::to_string(grid.total) + "; leave out --html");
   return grid;
+}
+
+// The output folder, emptied of an earlier sweep's files, so a failed run
+// leaves nothing that passes for this run's.
+void prepare_out(const std::filesystem::path& out) {
+  std::error_code ec;
+  for (const char* name : {"sweep.json", "sweep.csv", "verdict.npy", "distance.npy", "sweep.html"})
+    std::filesystem::remove(out / name, ec);
+  std::filesystem::create_directories(out, ec);
+  if (ec) throw InputError(out.string() + ": cannot create the folder (" + ec.message() + ")");
+}
+
+// distance.npy's value: a float32 lower bound of d (m) in length_unit,
+// rounded toward zero (0 in contact, +inf with no checked pair).
+float distance_lower_bound(double d, double unit) {
+  if (!(d > 0.0)) return 0.0f;
+  if (std::isinf(d)) return std::numeric_limits<float>::infinity();
+  // The division rounds to nearest: step one double down when it was not
+  // exact, then take the float at or below.
+  double q = d / unit;
+  if (unit != 1.0 && q * unit != d) q = std::nextafter(q, 0.0);
+  float f = static_cast<float>(q);
+  if (static_cast<double>(f) > q) f = std::nextafter(f, 0.0f);
+  return f;
 }
 
 // What the summary (sweep.json, stdout, sweep.html) keeps of all the rows.
@@ -123,14 +152,9 @@ struct Tally {
 // sweep.csv, written to sweep.csv.tmp and renamed when complete.
 class CsvOut {
  public:
-  // Replaces an earlier sweep's sweep.json (so a failed run leaves none),
-  // creates the folder and writes the header.
+  // Writes the header (the folder exists: prepare_out).
   CsvOut(const Scene& scene, const std::vector<SweepAxis>& axes, const std::filesystem::path& out)
       : path_(out / "sweep.csv"), tmp_(path_.string() + ".tmp") {
-    std::error_code ec;
-    std::filesystem::remove(out / "sweep.json", ec);
-    std::filesystem::create_directories(out, ec);
-    if (ec) throw InputError(out.string() + ": cannot create the folder (" + ec.message() + ")");
     csv_.open(tmp_, std::ios::binary | std::ios::trunc);
     if (!csv_) throw InputError(tmp_.string() + ": cannot write");
     for (const SweepAxis& a : axes) csv_ << scene.parameter_names[static_cast<std::size_t>(a.parameter)] << ",";
@@ -159,10 +183,32 @@ class CsvOut {
   std::ofstream csv_;
 };
 
+// The per-configuration outputs: verdict.npy and distance.npy (the grid's
+// shape, written block by block) and, with --csv, sweep.csv.
+struct GridOut {
+  NpyWriter verdict, distance;
+  std::optional<CsvOut> csv;
+  GridOut(const Scene& scene, const Grid& grid, const SweepArgs& args)
+      : verdict(args.out / "verdict.npy", NpyType::kUint8, shape(grid)),
+        distance(args.out / "distance.npy", NpyType::kFloat32, shape(grid)) {
+    if (args.csv) csv.emplace(scene, grid.axes, args.out);
+  }
+  static std::vector<std::uint64_t> shape(const Grid& grid) {
+    std::vector<std::uint64_t> s;
+    for (const SweepAxis& a : grid.axes) s.push_back(a.values.size());
+    return s;
+  }
+  void finish() {
+    verdict.finish();
+    distance.finish();
+    if (csv) csv->finish();
+  }
+};
+
 // Checks every configuration of the grid, in blocks of rows checked in
-// parallel and then written to the CSV and tallied in grid order.
+// parallel and then written out and tallied in grid order.
 Tally check_configurations(const Checker& checker, const Scene& scene, const Grid& grid, const SweepArgs& args,
-                           int threads, CsvOut& csv, std::ostream& err) {
+                           int threads, GridOut& outputs, std::ostream& err) {
   const std::vector<SweepAxis>& axes = grid.axes;
   const std::size_t total = grid.total;
   err << "plancheck: checking " << total << " configurations on " << threads << " threads\n";
@@ -182,6 +228,8 @@ Tally check_configurations(const Checker& checker, const Scene& scene, const Gri
   constexpr std::size_t kBlock = std::size_t{1} << 16;  // rows held before writing
   constexpr std::size_t kRun = 32;                      // states seeded in order
   std::vector<Row> rows;
+  std::vector<std::uint8_t> verdict_block;
+  std::vector<float> distance_block;
   std::vector<double> params;
   std::vector<std::size_t> digits(axes.size());
   for (std::size_t block = 0; block < total; block += kBlock) {
@@ -211,6 +259,14 @@ Tally check_configurations(const Checker& checker, const Scene& scene, const Gri
         progress.add(std::min(n, (r + 1) * kRun) - r * kRun);
       }
     });
+    verdict_block.resize(n);
+    distance_block.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      verdict_block[i] = sweep_verdict_code(rows[i].verdict);
+      distance_block[i] = distance_lower_bound(rows[i].collision ? 0.0 : rows[i].min_distance, unit);
+    }
+    outputs.verdict.write(block, verdict_block.data(), n);
+    outputs.distance.write(block, distance_block.data(), n);
     for (std::size_t i = 0; i < n; ++i) {
       const Row& row = rows[i];
       grid.decode(block + i, params, &digits);
@@ -230,7 +286,7 @@ Tally check_configurations(const Checker& checker, const Scene& scene, const Gri
         tally.reach_lo = tally.reach_lo.cwiseMin(row.target);
         tally.reach_hi = tally.reach_hi.cwiseMax(row.target);
       }
-      csv.row(axes, params, row, checker, unit);
+      if (outputs.csv) outputs.csv->row(axes, params, row, checker, unit);
     }
   }
   progress.finish();
@@ -266,6 +322,9 @@ Json summary_json(const SweepArgs& args, const Scene& scene, const Checker& chec
   }
   j["axes"] = jaxes;
   j["configurations"] = grid.total;
+  // Configurations that got an exact check (today: all of them, so
+  // distance.npy is exact everywhere).
+  j["checked"] = grid.total;
   j["counts"] = {{"safe", safe},
                  {"collision", tally.count(Verdict::kCollision)},
                  {"clearance", tally.count(Verdict::kClearance)},
@@ -360,13 +419,12 @@ int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
   const Checker checker(scene, threads);
   const double build_seconds = seconds_since(t_build);
 
-  CsvOut csv(scene, grid.axes, args.out);
-  const Tally tally = check_configurations(checker, scene, grid, args, threads, csv, err);
-  csv.finish();
+  prepare_out(args.out);
+  GridOut outputs(scene, grid, args);
+  const Tally tally = check_configurations(checker, scene, grid, args, threads, outputs, err);
+  outputs.finish();
 
   write_summary_json(summary_json(args, scene, checker, grid, tally, threads, load_seconds, build_seconds), args.out);
-  std::error_code ec;
-  std::filesystem::remove(args.out / "sweep.html", ec);
   if (args.html) write_sweep_html(checker, scene, grid.axes, tally.page_verdicts, tally.page_targets, args.out);
   print_summary(out, scene, checker, grid, tally, threads, load_seconds, build_seconds);
   return 0;

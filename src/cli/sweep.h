@@ -23,13 +23,16 @@ struct SweepArgs {
   std::optional<long> steps;         // --steps N
   bool quiet = false;                // no progress on stderr
   bool html = false;                 // also DIR/sweep.html (src/output/sweep_html.h)
+  bool csv = false;                  // also DIR/sweep.csv (one row per configuration)
+  bool exact_distance = false;       // --exact-distance: distance.npy exact everywhere (it is: every configuration is checked exactly)
   std::optional<std::string> grid;   // --grid SPEC
   std::filesystem::path out = "plancheck-sweep";
   int threads = 0;                   // 0: all hardware threads
 };
 
-// Writes DIR/sweep.csv (one row per configuration) and DIR/sweep.json (the
-// summary), prints the summary; returns 0. Input errors throw InputError.
+// Writes DIR/verdict.npy and DIR/distance.npy (the grid's shape), DIR/sweep.json
+// (the summary) and with --csv DIR/sweep.csv (one row per configuration),
+// prints the summary; returns 0. Input errors throw InputError.
 int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err);
 
 }  // namespace plancheck

@@ -8,7 +8,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -37,6 +39,34 @@ std::vector<std::vector<std::string>> read_csv(const std::filesystem::path& file
   return rows;
 }
 
+// A .npy file as written: its descr and shape text and the raw data.
+struct Npy {
+  std::string descr, shape, data;
+};
+
+Npy read_npy(const std::filesystem::path& file) {
+  const std::string b = read_text(file);
+  Npy out;
+  if (b.size() < 10 || b.compare(0, 6, "\x93NUMPY") != 0) {
+    ADD_FAILURE() << file << ": not a .npy file";
+    return out;
+  }
+  const std::size_t len = static_cast<unsigned char>(b[8]) | static_cast<std::size_t>(static_cast<unsigned char>(b[9])) << 8;
+  const std::string header = b.substr(10, len);
+  EXPECT_EQ((10 + len) % 64, 0u) << file;
+  const auto field = [&](const std::string& key, char open, char close) {
+    const std::size_t k = header.find(key);
+    const std::size_t a = header.find(open, k + key.size());
+    const std::size_t e = header.find(close, a + 1);
+    return header.substr(a, e - a + 1);
+  };
+  out.descr = field("'descr'", '\'', '\'');
+  out.descr = out.descr.substr(1, out.descr.size() - 2);
+  out.shape = field("'shape'", '(', ')');
+  out.data = b.substr(10 + len);
+  return out;
+}
+
 int sweep(const std::string& scene, const std::string& options, const std::filesystem::path& out,
           const std::filesystem::path& err = "/dev/null") {
   return run_command(kPlancheck + " sweep " + scene + " " + options + " --out " + out.string() + " >/dev/null 2>" +
@@ -46,7 +76,7 @@ int sweep(const std::string& scene, const std::string& options, const std::files
 TEST(Sweep, GridRowsMatchTheClosedForm) {
   TempDir dir("sweep-bar");
   testing::write_bar_scene(dir);
-  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid 'J1=-80:28:0.25' --threads 2", dir / "out"), 0);
+  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid 'J1=-80:28:0.25' --threads 2 --csv", dir / "out"), 0);
   const auto rows = read_csv(dir / "out/sweep.csv");
   ASSERT_EQ(rows.size(), 1u + 433u);  // -80, -79.75, ..., 28 (the decimal step lands on TO)
   EXPECT_EQ(rows[0], (std::vector<std::string>{"J1", "verdict", "collision", "min_distance", "part_a", "part_b",
@@ -87,7 +117,7 @@ TEST(Sweep, GridRowsMatchTheClosedForm) {
 TEST(Sweep, StepsSpanTheLimitsWithExactEnds) {
   TempDir dir("sweep-steps");
   testing::write_bar_scene(dir);
-  ASSERT_EQ(sweep((dir / "scene.json").string(), "--steps 5", dir / "out"), 0);
+  ASSERT_EQ(sweep((dir / "scene.json").string(), "--steps 5 --csv", dir / "out"), 0);
   const auto rows = read_csv(dir / "out/sweep.csv");
   ASSERT_EQ(rows.size(), 6u);
   const double expected[] = {-90, -60, -30, 0, 30};
@@ -104,7 +134,7 @@ TEST(Sweep, StepsSpanTheLimitsWithExactEnds) {
 TEST(Sweep, GridValuesAreEchoedAndLimitedAsWritten) {
   TempDir dir("sweep-written");
   testing::write_bar_scene(dir);
-  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-450:330:390", dir / "out"), 0);
+  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-450:330:390 --csv", dir / "out"), 0);
   const auto rows = read_csv(dir / "out/sweep.csv");
   ASSERT_EQ(rows.size(), 4u);
   EXPECT_EQ(rows[1][0], "-450");
@@ -121,9 +151,10 @@ TEST(Sweep, GridValuesAreEchoedAndLimitedAsWritten) {
 TEST(Sweep, OneAndTwoThreadsWriteTheSameRows) {
   TempDir dir("sweep-threads");
   testing::write_bar_scene(dir);
-  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-90:30:0.05 --threads 1", dir / "one"), 0);
-  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-90:30:0.05 --threads 2", dir / "two"), 0);
-  EXPECT_EQ(read_text(dir / "one/sweep.csv"), read_text(dir / "two/sweep.csv"));
+  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-90:30:0.05 --threads 1 --csv", dir / "one"), 0);
+  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-90:30:0.05 --threads 2 --csv", dir / "two"), 0);
+  for (const char* file : {"sweep.csv", "verdict.npy", "distance.npy"})
+    EXPECT_EQ(read_text(dir / "one" / file), read_text(dir / "two" / file)) << file;
 }
 
 // On the default scene: every configuration of a small 3-joint grid has the
@@ -133,9 +164,16 @@ TEST(Sweep, AgreesWithVerifyOnTheDefaultScene) {
   ASSERT_TRUE(std::filesystem::exists(kChange5 / "scene.json")) << "run `make dataset` first";
   TempDir dir("sweep-change5");
   const std::string grid = "J1=-40:40:40,J2=-20:40:15,J3=-150:-30:30";
-  ASSERT_EQ(sweep((kChange5 / "scene.json").string(), "--grid " + grid, dir / "out"), 0);
+  ASSERT_EQ(sweep((kChange5 / "scene.json").string(), "--grid " + grid + " --csv", dir / "out"), 0);
   const auto rows = read_csv(dir / "out/sweep.csv");
   ASSERT_EQ(rows.size(), 1u + 3u * 5u * 5u);
+  const Npy verdicts = read_npy(dir / "out/verdict.npy"), distances = read_npy(dir / "out/distance.npy");
+  EXPECT_EQ(verdicts.descr, "|u1");
+  EXPECT_EQ(distances.descr, "<f4");
+  EXPECT_EQ(verdicts.shape, "(3, 5, 5)");
+  EXPECT_EQ(distances.shape, "(3, 5, 5)");
+  ASSERT_EQ(verdicts.data.size(), 75u);
+  ASSERT_EQ(distances.data.size(), 75u * 4u);
   std::ostringstream plan;
   plan << "J1,J2,J3\n";
   std::size_t i = 1;
@@ -158,6 +196,18 @@ TEST(Sweep, AgreesWithVerifyOnTheDefaultScene) {
     const auto& s = rows[r];  // J1,J2,J3,verdict,collision,min_distance,part_a,part_b,...
     const auto& v = states[r];  // state,collision,min_distance,part_a,part_b,...
     EXPECT_EQ(s[4], v[1]) << "row " << r;
+    // verdict.npy's code and distance.npy's float32 lower bound of verify's distance.
+    const int code = static_cast<unsigned char>(verdicts.data[r - 1]);
+    EXPECT_EQ(code, s[3] == "safe" ? 0 : s[3] == "clearance" ? 1 : s[3] == "collision" ? 2 : 3) << "row " << r;
+    float f;
+    std::memcpy(&f, distances.data.data() + 4 * (r - 1), 4);
+    if (v[1] == "1") {
+      EXPECT_EQ(f, 0.0f) << "row " << r;
+    } else {
+      const double exact = std::stod(v[2]);  // 12 significant digits
+      EXPECT_LE(f, exact * (1 + 1e-11)) << "row " << r;
+      EXPECT_GE(f, exact * (1 - 1.2e-7)) << "row " << r;  // within a float's rounding toward zero
+    }
     if (v[1] == "1") {
       EXPECT_EQ(s[3], "collision");
       ++kinds[0];
@@ -172,6 +222,41 @@ TEST(Sweep, AgreesWithVerifyOnTheDefaultScene) {
   }
   EXPECT_GT(kinds[0], 0);  // the grid reaches into the lander
   EXPECT_GT(kinds[2], 0);
+}
+
+// Without --csv: the NumPy arrays and the summary only; sweep.json counts
+// what they hold and says every configuration got an exact check.
+TEST(Sweep, WithoutCsvWritesTheArraysAndTheSummary) {
+  TempDir dir("sweep-npy");
+  testing::write_bar_scene(dir);
+  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-90:30:0.5", dir / "out"), 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out/sweep.csv"));
+  const Npy verdicts = read_npy(dir / "out/verdict.npy");
+  EXPECT_EQ(verdicts.shape, "(241,)");
+  const auto summary = nlohmann::json::parse(read_text(dir / "out/sweep.json"));
+  EXPECT_EQ(summary["configurations"], 241);
+  EXPECT_EQ(summary["checked"], 241);
+  std::size_t counts[4] = {};
+  for (char c : verdicts.data) ++counts[static_cast<unsigned char>(c)];
+  EXPECT_EQ(counts[0], summary["counts"]["safe"]);
+  EXPECT_EQ(counts[1], summary["counts"]["clearance"]);
+  EXPECT_EQ(counts[2], summary["counts"]["collision"]);
+  EXPECT_EQ(counts[3], summary["counts"]["limits"]);
+  // An earlier run's CSV does not survive a run without --csv.
+  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-90:30:0.5 --csv", dir / "out"), 0);
+  ASSERT_EQ(sweep((dir / "scene.json").string(), "--grid J1=-90:30:1", dir / "out"), 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out/sweep.csv"));
+}
+
+TEST(Sweep, GridsBeyondTwoBillionConfigurationsExitTwo) {
+  TempDir dir("sweep-big");
+  // 360,001 x 155,001 values: 5.6e10 configurations.
+  EXPECT_EQ(sweep((kChange5 / "scene.json").string(), "--grid 'J1=-180:180:0.001,J2=-20:135:0.001'", dir / "out",
+                  dir / "err.txt"),
+            2);
+  EXPECT_NE(read_text(dir / "err.txt").find("more than 2000000000 configurations"), std::string::npos)
+      << read_text(dir / "err.txt");
+  EXPECT_FALSE(std::filesystem::exists(dir / "out/verdict.npy"));
 }
 
 TEST(Sweep, BadGridsExitTwoNamingTheItem) {
