@@ -439,9 +439,7 @@ int run_table3(int argc, char** argv) {
                                   {"seconds_1_thread", t.seconds},
                                   {"max_abs_error", t.max_abs_error},
                                   {"max_rel_error", t.max_rel_error}});
-      std::ofstream f(json_file);
-      f << j.dump(2) << "\n";
-      if (!f) throw InputError("cannot write " + json_file);
+      write_json_text(json_file, j.dump(2));
     }
     return 0;
   } catch (const std::exception& e) {

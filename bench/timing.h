@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,13 @@ double median_seconds(int reps, F&& f) {
   std::sort(t.begin(), t.end());
   const std::size_t n = t.size();
   return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+}
+
+// Writes a bench's JSON text to `file` (--json); throws naming the file.
+inline void write_json_text(const std::string& file, const std::string& text) {
+  std::ofstream f(file);
+  f << text << "\n";
+  if (!f) throw std::runtime_error("cannot write " + file);
 }
 
 inline std::string fmt(double x, const char* f = "%.3f") {

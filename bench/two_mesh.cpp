@@ -262,9 +262,7 @@ int run_two_mesh(int argc, char** argv) {
                     {"fcl_collide_seconds", fcl_collide},
                     {"fcl_over_plancheck_1_thread", fcl_s / pc_1},
                     {"fcl_over_plancheck_collide", fcl_collide / pc_collide_1}};
-      std::ofstream f(json_file);
-      f << j.dump(2) << "\n";
-      if (!f) throw InputError("cannot write " + json_file);
+      write_json_text(json_file, j.dump(2));
     }
     return 0;
   } catch (const std::exception& e) {

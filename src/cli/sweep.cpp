@@ -10,6 +10,7 @@
 #include "src/checks/sweep_grid.h"
 #include "src/checks/verify.h"
 #include "src/output/npy.h"
+#include "src/output/report.h"
 #include "src/output/sweep_html.h"
 #include "src/scene/plan.h"
 #include "src/scene/scene_loader.h"
@@ -34,12 +35,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-std::string num(double v) {
-  if (!std::isfinite(v)) return "";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.12g", v);
-  return buf;
-}
+std::string num(double v) { return csv_number(v); }
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -17,13 +17,7 @@ namespace {
 
 using Json = nlohmann::ordered_json;
 
-// Distances carry 12 significant digits (the contract asks for at least 9).
-std::string num(double v) {
-  if (!std::isfinite(v)) return "";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.12g", v);
-  return buf;
-}
+std::string num(double v) { return csv_number(v); }
 
 Json num_json(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
@@ -95,6 +89,14 @@ void write_atomically(const std::filesystem::path& path, const std::string& text
     if (!f.flush()) fail(tmp, "write failed");
   }
   std::filesystem::rename(tmp, path);
+}
+
+// Distances carry 12 significant digits (the contract asks for at least 9).
+std::string csv_number(double v) {
+  if (!std::isfinite(v)) return "";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.12g", v);
+  return buf;
 }
 
 void write_reports(const Checker& checker, const Scene& scene, const std::vector<PlanResult>& results,

@@ -25,6 +25,9 @@ struct RunInfo {
   bool verdict_only = false;          // verify --verdict-only: distances may be lower bounds, a verdict column
 };
 
+// A number as the CSVs print it: 12 significant digits ("" when not finite).
+std::string csv_number(double v);
+
 // One line per plan, then a summary line.
 void print_plan_lines(const Checker& checker, const Scene& scene, const std::vector<PlanResult>& results,
                       const RunInfo& info, std::ostream& out);
