@@ -121,6 +121,24 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene), motion_(scene
   for (PairRef& p : pairs_)
     p.empty = models_[static_cast<std::size_t>(p.a)].triangle_count() == 0 ||
               (p.b != terrain_index_ && models_[static_cast<std::size_t>(p.b)].triangle_count() == 0);
+  // What the verdict-only cutoff's guard scales with (check_pairs): the
+  // parts of the checked pairs, and twice the undisturbed terrain's root
+  // magnitude (a dug copy reaches lower by at most a scoop's depth, far less
+  // than the terrain's extent).
+  std::vector<char> in_pair(models_.size(), 0);
+  for (const PairRef& p : pairs_) {
+    if (p.empty) continue;
+    in_pair[static_cast<std::size_t>(p.a)] = 1;
+    if (p.b != terrain_index_) {
+      in_pair[static_cast<std::size_t>(p.b)] = 1;
+    } else if (terrain_) {
+      double lo[3], hi[3];
+      terrain_->block_box(static_cast<int>(terrain_->levels().size()) - 1, 0, 0, lo, hi);
+      for (int k = 0; k < 3; ++k) terrain_magnitude_ = std::max({terrain_magnitude_, 2.0 * std::abs(lo[k]), 2.0 * std::abs(hi[k])});
+    }
+  }
+  for (std::size_t i = 0; i < in_pair.size(); ++i)
+    if (in_pair[i]) guard_parts_.push_back(static_cast<int>(i));
   for (const Mesh* m : meshes) {
     const Box b = mesh_box(*m);
     local_boxes_.emplace_back(b.lo, b.hi);
@@ -431,22 +449,11 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   const bool verdict_only = std::isfinite(request.exact_below);
   double cutoff = std::numeric_limits<double>::infinity();
   if (verdict_only) {
-    double g = kDistanceTolerance;
-    for (const PairRef& pr : pairs_) {
-      if (pr.empty) continue;
-      if (pr.b == terrain_index_) {
-        if (!terrain_) continue;
-        double lo[3], hi[3];
-        terrain_->block_box(static_cast<int>(terrain_->levels().size()) - 1, 0, 0, lo, hi);
-        const double m = std::max({std::abs(lo[0]), std::abs(lo[1]), std::abs(lo[2]), std::abs(hi[0]),
-                                   std::abs(hi[1]), std::abs(hi[2])});
-        // Twice the undisturbed root's magnitude: a dug copy reaches lower
-        // by at most a scoop's depth, far less than the terrain's extent.
-        g = std::max(g, 64.0 * std::numeric_limits<double>::epsilon() * std::max(pair_magnitude(pr.a), 2.0 * m));
-      } else {
-        g = std::max(g, pair_guard(pr.a, pr.b));
-      }
-    }
+    // The largest pair guard: that of the largest magnitude of any part in a
+    // checked pair (parts once each, not pairs), the terrain's fixed at build.
+    double m = terrain_magnitude_;
+    for (int i : guard_parts_) m = std::max(m, pair_magnitude(i));
+    const double g = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() * m);
     cutoff = request.exact_below + 4.0 * g + kDistanceTieTolerance;
     out.min_distance = std::min(out.min_distance, cutoff);
   }

@@ -266,6 +266,10 @@ class Checker {
   std::vector<CollisionModel> models_;  // one per scene part (the terrain is terrain_)
   std::unique_ptr<const Heightfield> terrain_;  // the undisturbed terrain, when it collides
   int terrain_index_ = -1;                      // its index in names_
+  // Parts in some checked pair, and twice the terrain's largest coordinate
+  // (0 without terrain pairs): what the verdict-only cutoff scales with.
+  std::vector<int> guard_parts_;
+  double terrain_magnitude_ = 0.0;
   bool has_terrain_pairs_ = false;
   std::vector<int> chain_of_;           // chain id per checked part, -1 when static
   std::vector<std::pair<Vec3, Vec3>> local_boxes_;  // (lo, hi) per part, its own frame
