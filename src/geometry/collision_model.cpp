@@ -508,6 +508,7 @@ struct DistanceQuery {
   double tie;
   double cut = std::max(0.0, best * shrink_rel - tie);
   double best2_ = cut * cut;
+  bool first_below = false;
   bool found = false;
   std::uint32_t best_sa = 0, best_sb = 0;
   Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
@@ -683,7 +684,7 @@ struct DistanceQuery {
         if (!(dist < best)) continue;
         improve(dist, x.index + i, y.index + j, pp, qq);
         cut2_f = float_cut2();
-        if (best == 0.0) return false;  // nothing is closer
+        if (best == 0.0 || first_below) return false;  // nothing is closer, or a yes is enough
       }
     return true;
   }
@@ -734,7 +735,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
   const Setup s = make_setup(a, ta, b, tb);
   if (!(request.upper_bound > 0.0)) return;  // no distance is below 0
-  {
+  if (!request.known_disjoint) {
     // Intersection first: the collision traversal stops at the first hit
     // and culls far harder than distance bounds, which cannot prune
     // anything once pairs are at distance 0.
@@ -782,7 +783,8 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       if (dist < q.best) q.improve(dist, sa, sb, pp, qq);
     }
   }
-  distance_descent(q, t_stack, root);
+  q.first_below = request.first_below;
+  if (!(q.found && q.first_below)) distance_descent(q, t_stack, root);
   if (!q.found) return;
   result.found = true;
   result.distance = q.best;

@@ -66,6 +66,14 @@ struct DistanceRequest {
   // same as without it. -1: no seed.
   std::int64_t seed_slot_a = -1;
   std::int64_t seed_slot_b = -1;
+  // A yes/no question: stop at the first triangle pair found below
+  // upper_bound. found then says only that the distance is below it, and
+  // distance is that pair's (an upper bound on the minimum); not found
+  // proves it as without this flag.
+  bool first_below = false;
+  // The caller's exact collision test (collide) found no contact: the
+  // search skips its own. Only set it after such a test at this very pose.
+  bool known_disjoint = false;
 };
 
 struct DistanceResult {

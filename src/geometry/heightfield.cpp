@@ -553,6 +553,7 @@ struct HfDistance {
   double cut = std::max(0.0, best * shrink_rel - tie);
   double best2_ = cut * cut;
   bool found = false;
+  bool first_below = false;
   std::uint32_t best_slot = 0, best_tri = 0;
   Vec3 best_pp = Vec3::Zero(), best_pt = Vec3::Zero();
 
@@ -594,6 +595,7 @@ struct HfDistance {
         if (box_distance_squared(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3) * kShrink >= best2_) continue;
         ++result.triangle_pairs_tested;
         consider(tri_p[i], tri_t[j], x.index + i, ids[j]);
+        if (found && first_below) return false;  // a yes is enough
       }
     return true;
   }
@@ -676,7 +678,7 @@ void distance(const CollisionModel& a, const Affine& ta, const Heightfield& terr
     result.slot_a = slot;
     result.slot_b = tri;
   };
-  {
+  if (!request.known_disjoint) {
     // Intersection first, as the mesh path does: distance bounds cannot cull
     // anything among pairs at distance 0.
     CollideResult c;
@@ -703,10 +705,11 @@ void distance(const CollisionModel& a, const Affine& ta, const Heightfield& terr
     double p[9], t[9];
     if (triangle_pair(q, slot, tri, p, t)) d.consider(p, t, slot, tri);
   }
+  d.first_below = request.first_below;
   const int root = static_cast<int>(hf.levels().size()) - 1;
   double blo[3], bhi[3];
   if (!q.block(root, 0, 0, blo, bhi)) return;
-  distance_descent(d, t_hf_stack, Pair{0, root, 0, 0, d.lower2(0, blo, bhi)});
+  if (!(d.found && d.first_below)) distance_descent(d, t_hf_stack, Pair{0, root, 0, 0, d.lower2(0, blo, bhi)});
   if (d.found) finish(d.best_slot, d.best_tri, d.best_pp, d.best_pt, d.best);
 }
 
