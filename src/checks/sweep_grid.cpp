@@ -120,4 +120,32 @@ std::vector<SweepAxis> sweep_axes_from_grid(const Scene& scene, const std::strin
   return axes;
 }
 
+SweepBlocks::SweepBlocks(const std::vector<std::size_t>& grid_shape) : shape(grid_shape) {
+  // About 2^16 configurations a block: 16 values an axis in 4 axes, 256 in
+  // 2; at least 2 an axis, so a block always spans some motion.
+  const std::size_t d = shape.size();
+  std::size_t e = 2;
+  if (d > 0) {
+    e = static_cast<std::size_t>(std::floor(std::pow(65536.0, 1.0 / static_cast<double>(d)) + 1e-9));
+    e = std::max<std::size_t>(e, 2);
+  }
+  for (std::size_t n : shape) {
+    edge.push_back(std::min(e, std::max<std::size_t>(n, 1)));
+    count.push_back((n + edge.back() - 1) / edge.back());
+    blocks *= count.back();
+  }
+}
+
+void SweepBlocks::block(std::size_t b, std::vector<std::size_t>& first, std::vector<std::size_t>& size) const {
+  const std::size_t d = shape.size();
+  first.resize(d);
+  size.resize(d);
+  for (std::size_t k = d; k-- > 0;) {
+    const std::size_t i = b % count[k];
+    b /= count[k];
+    first[k] = i * edge[k];
+    size[k] = std::min(edge[k], shape[k] - first[k]);
+  }
+}
+
 }  // namespace plancheck

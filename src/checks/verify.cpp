@@ -629,4 +629,171 @@ Vec3 Checker::target_point(const std::vector<double>& params) const {
   return t * node.origin;
 }
 
+
+// ---- Pair by pair (the sweep's certified regions) ----
+
+void Checker::pose_parts(const std::vector<double>& params, PosedParts& out) const {
+  chain_transforms(scene_, params, out.chains);
+  static const Affine kIdentity = Affine::Identity();
+  const std::size_t n = models_.size();
+  out.pose.resize(n);
+  out.box.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (chain_of_[i] >= 0) {
+      out.pose[i] = &out.chains[static_cast<std::size_t>(chain_of_[i])];
+      const Box b = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *out.pose[i]);
+      out.box[i] = {b.lo, b.hi};
+    } else {
+      out.pose[i] = &kIdentity;
+      out.box[i] = static_boxes_[i];
+    }
+  }
+}
+
+namespace {
+
+// The terrain's box: its pyramid's root, padded as a static part's box (as
+// check_pairs computes it).
+Box terrain_root_box(const Heightfield& terrain) {
+  double lo[3], hi[3];
+  terrain.block_box(static_cast<int>(terrain.levels().size()) - 1, 0, 0, lo, hi);
+  return posed_box({Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}, Affine::Identity());
+}
+
+}  // namespace
+
+bool Checker::pair_collides(const PosedParts& posed, std::size_t k) const {
+  const PairRef& p = pairs_[k];
+  if (p.empty) return false;
+  const int a = p.a, b = p.b;
+  const Affine& pa = *posed.pose[static_cast<std::size_t>(a)];
+  const Box box_a{posed.box[static_cast<std::size_t>(a)].first, posed.box[static_cast<std::size_t>(a)].second};
+  CollideResult r;
+  if (b == terrain_index_) {
+    if (!(terrain_ && terrain_->triangle_count() > 0)) return false;
+    if (box_gap2(box_a, terrain_root_box(*terrain_)) > 0.0) return false;
+    collide(models_[a], pa, *terrain_, CollideRequest{0}, r);
+  } else {
+    const Box box_b{posed.box[static_cast<std::size_t>(b)].first, posed.box[static_cast<std::size_t>(b)].second};
+    if (box_gap2(box_a, box_b) > 0.0) return false;
+    collide(models_[a], pa, models_[b], *posed.pose[static_cast<std::size_t>(b)], CollideRequest{0}, r);
+  }
+  return r.collide;
+}
+
+void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide) const {
+  const PairRef& p = pairs_[k];
+  const bool seeded = out.seeded;
+  const std::uint32_t seed_a = out.slot_a, seed_b = out.slot_b;
+  out = PairAnswer{};
+  out.distance = std::numeric_limits<double>::infinity();
+  if (p.empty) return;  // never checked: no bound from it
+  const int a = p.a, b = p.b;
+  const bool on_terrain = b == terrain_index_;
+  if (on_terrain && !(terrain_ && terrain_->triangle_count() > 0)) return;
+  const Box box_a{posed.box[static_cast<std::size_t>(a)].first, posed.box[static_cast<std::size_t>(a)].second};
+  const Box box_b = on_terrain ? terrain_root_box(*terrain_)
+                               : Box{posed.box[static_cast<std::size_t>(b)].first, posed.box[static_cast<std::size_t>(b)].second};
+  const double g2 = box_gap2(box_a, box_b);
+  const double gap = g2 > 0.0 ? std::sqrt(g2) : 0.0;
+  auto mag = [](const Box& x) { return std::max(x.lo.cwiseAbs().maxCoeff(), x.hi.cwiseAbs().maxCoeff()); };
+  auto part_mag = [&](int i, const Box& world) {
+    if (i == terrain_index_) return mag(world);
+    const auto& l = local_boxes_[static_cast<std::size_t>(i)];
+    return std::max(mag(world), mag(Box{l.first, l.second}));
+  };
+  out.guard = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() *
+                                               std::max(part_mag(a, box_a), part_mag(b, box_b)));
+  if (gap >= need) {  // beyond the need by the boxes
+    out.distance = gap;
+    return;
+  }
+  DistanceRequest q{need, 0.0, kDistanceTieTolerance};
+  q.first_below = decide;
+  q.known_disjoint = true;  // the caller ran pair_collides
+  if (seeded) {
+    q.seed_slot_a = seed_a;
+    q.seed_slot_b = seed_b;
+  }
+  const Affine& pa = *posed.pose[static_cast<std::size_t>(a)];
+  DistanceResult r;
+  if (on_terrain)
+    distance(models_[a], pa, *terrain_, q, r);
+  else
+    distance(models_[a], pa, models_[b], *posed.pose[static_cast<std::size_t>(b)], q, r);
+  if (r.found) {
+    out.exact = !decide;
+    out.distance = decide ? gap : r.distance;
+    out.upper = r.distance;
+    out.seeded = true;
+    out.slot_a = r.slot_a;
+    out.slot_b = r.slot_b;
+  } else {
+    // As check_pairs proves a pair it searched below q.upper_bound.
+    out.distance = std::max({gap, need - q.abs_tolerance - out.guard, 0.0});
+  }
+}
+
+namespace {
+
+// The parameters an action reads (a mimic joint: its master's).
+void action_parameters(const Scene& scene, const Action& a, std::vector<int>& out) {
+  if (a.mimic >= 0) {
+    out.push_back(scene.actions[static_cast<std::size_t>(a.mimic)].first_parameter);
+    return;
+  }
+  for (int j = 0; j < a.parameter_count; ++j) out.push_back(a.first_parameter + j);
+}
+
+}  // namespace
+
+std::vector<int> Checker::pair_parameters(std::size_t k) const {
+  auto chain = [&](int part) -> const std::vector<int>& {
+    static const std::vector<int> kNone;
+    return part < static_cast<int>(scene_.parts.size()) ? scene_.parts[static_cast<std::size_t>(part)].chain : kNone;
+  };
+  const std::vector<int>& ca = chain(pairs_[k].a);
+  const std::vector<int>& cb = chain(pairs_[k].b);
+  // Chains run from the root: the common actions are a common prefix, and
+  // they move both parts alike.
+  std::size_t common = 0;
+  while (common < ca.size() && common < cb.size() && ca[common] == cb[common]) ++common;
+  std::vector<int> out;
+  for (std::size_t i = common; i < ca.size(); ++i) action_parameters(scene_, scene_.actions[static_cast<std::size_t>(ca[i])], out);
+  for (std::size_t i = common; i < cb.size(); ++i) action_parameters(scene_, scene_.actions[static_cast<std::size_t>(cb[i])], out);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+double Checker::pair_motion(std::size_t k, std::span<const double> lo, std::span<const double> hi) const {
+  // part_bound bounds the path of every point over the box spanned by lo
+  // and hi, |dq_i| times the largest |dp/dq_i| in it: from the centre to any
+  // point of the box, half of that. Both parts' motions add up (for a part
+  // whose chain is a prefix of the other's, the first is zero: only the
+  // pair's own parameters differ between lo and hi).
+  const double m = motion_.part_bound(pairs_[k].a, lo, hi) + motion_.part_bound(pairs_[k].b, lo, hi);
+  return 0.5 * m * (1.0 + 1e-9) + 1e-12;
+}
+
+double Checker::guard_bound(double reach) const {
+  auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
+  double m = terrain_magnitude_;
+  for (int i : guard_parts_) {
+    const auto& l = local_boxes_[static_cast<std::size_t>(i)];
+    m = std::max(m, mag(l.first, l.second));
+    if (chain_of_[static_cast<std::size_t>(i)] < 0) {
+      m = std::max(m, mag(static_boxes_[static_cast<std::size_t>(i)].first, static_boxes_[static_cast<std::size_t>(i)].second));
+    } else {
+      // The world box at the reference pose, moved by at most `reach`; its
+      // corners are within the local box's diagonal of the part's points
+      // (twice that for slack under scale actions).
+      const Box w = posed_box({l.first, l.second},
+                              part_transform(scene_, i, scene_.reference_parameters));
+      m = std::max(m, mag(w.lo, w.hi) + reach + 2.0 * (l.second - l.first).norm());
+    }
+  }
+  return std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() * m * (1.0 + 1e-6));
+}
+
 }  // namespace plancheck

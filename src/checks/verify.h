@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -180,6 +181,27 @@ struct VerifyOptions {
   bool verdict_only = false;     // verdict_only_request for every state (verify --verdict-only)
 };
 
+// One checked pair at one configuration, asked on its own (the sweep's
+// certified regions, src/checks/sweep_certify.h).
+struct PairAnswer {
+  bool collision = false;
+  bool exact = false;      // distance is the pair's minimum distance (found below the need)
+  double distance = 0.0;   // m: the exact distance, or a proven lower bound; 0 in contact
+  double upper = std::numeric_limits<double>::infinity();  // m: an upper bound (a distance found)
+  double guard = kDistanceTolerance;  // what settles a margin comparison of this pair in double
+  // The closest triangle pair as model slots (valid when exact): read as a
+  // seed when seeded is true, written when exact.
+  bool seeded = false;
+  std::uint32_t slot_a = 0, slot_b = 0;
+};
+
+// The parts of a scene posed at one configuration (Checker::pose_parts).
+struct PosedParts {
+  std::vector<Affine> chains;
+  std::vector<const Affine*> pose;                // per checked part
+  std::vector<std::pair<Vec3, Vec3>> box;         // per checked part: world box, padded
+};
+
 // Collision structures of a scene, built once; immutable and shared by threads.
 class Checker {
  public:
@@ -241,6 +263,38 @@ class Checker {
 
   // The pairs in contact (touching or intersecting) at the reference pose.
   std::vector<PairContact> reference_contacts() const;
+
+  // Pair by pair (the sweep's certified regions): pose every part once,
+  // then ask single checked pairs k (indices into pairs()). pair_collides is
+  // check_pairs' test (box overlap, then the exact collision test).
+  // pair_distance, for a pair pair_collides cleared at this pose: its exact
+  // distance when below `need` (m), else a proven lower bound (at least need
+  // less the tie tolerance and the pair's guard); with `decide`, only
+  // whether it is below `need` (the search stops at the first triangle pair
+  // below: not exact, `upper` is that pair's distance). out's slots, when
+  // seeded, start the search (the answer's distance may then differ within
+  // the tie tolerance).
+  void pose_parts(const std::vector<double>& params, PosedParts& out) const;
+  bool pair_collides(const PosedParts& posed, std::size_t k) const;
+  void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false) const;
+  // The parameters (indices into Scene::parameter_names) the distance of
+  // pair k depends on: those read by the actions of one part's chain and
+  // not the other's. The relative pose of the two parts is a function of
+  // these alone, so the pair's answer is the same whatever the others are.
+  std::vector<int> pair_parameters(std::size_t k) const;
+  // An upper bound on how far the parts of pair k can move relative to each
+  // other while the parameters go from the centre of the box [lo, hi] to
+  // any point of it (m, padded for rounding).
+  double pair_motion(std::size_t k, std::span<const double> lo, std::span<const double> hi) const;
+  // An upper bound on how far the parts of pair k move relative to each
+  // other while the parameters go linearly from qa to qb (m, padded).
+  double pair_path(std::size_t k, std::span<const double> qa, std::span<const double> qb) const {
+    return motion_.part_bound(pairs_[k].a, qa, qb) + motion_.part_bound(pairs_[k].b, qa, qb);
+  }
+  // The largest margin guard of any checked pair over every configuration
+  // whose moving parts stay within `reach` (m) of their reference pose: the
+  // verdict-only cutoff's G, fixed for a whole sweep.
+  double guard_bound(double reach) const;
 
   // The point a plan's target refers to, posed: the scoop's bottom point, or
   // without a scoop the origin of the last action's node.

@@ -99,9 +99,9 @@ int main(int argc, char** argv) {
       "--grid", sweep_grid, "NAME=FROM:TO:STEP,... in plan units; parameters not named keep their reference value");
   steps_opt->excludes(grid_opt);
   sweep_cmd->add_option("--out", sweep_out, "folder for the outputs")->capture_default_str();
-  sweep_cmd->add_flag("--csv", sweep.csv, "also write DIR/sweep.csv, one row per configuration");
+  sweep_cmd->add_flag("--csv", sweep.csv, "also write DIR/sweep.csv, one row per configuration (each checked on its own)");
   sweep_cmd->add_flag("--exact-distance", sweep.exact_distance,
-                      "distance.npy exact at every configuration (today every configuration is checked exactly anyway)");
+                      "check every configuration on its own: distance.npy exact everywhere (slower; --csv implies it)");
   sweep_cmd->add_flag("--html", sweep.html, "also write DIR/sweep.html: verdict heat maps, the arm, safe targets; one self-contained file");
   sweep_cmd->add_flag("--quiet", sweep.quiet, "no progress or status lines on stderr");
   sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);

@@ -7,6 +7,7 @@
 #include "src/base/error.h"
 #include "src/base/parallel.h"
 #include "src/base/progress.h"
+#include "src/checks/sweep_certify.h"
 #include "src/checks/sweep_grid.h"
 #include "src/checks/verify.h"
 #include "src/output/npy.h"
@@ -25,6 +26,7 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <ostream>
 #include <utility>
@@ -36,6 +38,11 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 std::string num(double v) { return csv_number(v); }
+
+std::vector<double>& params_scratch() {
+  static thread_local std::vector<double> p;
+  return p;
+}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -50,27 +57,7 @@ struct Row {
   Vec3 target = Vec3::Zero();    // m
 };
 
-// The grid to check: its axes, how many configurations they make, and the
-// parameters the axes leave at their reference value.
-struct Grid {
-  std::vector<SweepAxis> axes;
-  std::size_t total = 1;
-  std::vector<double> reference;  // Scene::reference_parameters
-
-  // Configuration `index` in odometer order, the last axis fastest:
-  // neighbours in the order are neighbours on the grid, so each check seeds
-  // the next (coherence). digits (optional): each axis's value index.
-  void decode(std::size_t index, std::vector<double>& params, std::vector<std::size_t>* digits) const {
-    params = reference;
-    for (std::size_t k = axes.size(); k-- > 0;) {
-      const std::size_t n = axes[k].values.size();
-      const std::size_t d = index % n;
-      index /= n;
-      params[static_cast<std::size_t>(axes[k].parameter)] = axes[k].values[d];
-      if (digits) (*digits)[k] = d;
-    }
-  }
-};
+using Grid = SweepGrid;
 
 // --grid or --steps (9 by default) over the loaded scene, at most
 // kMaxSweepConfigurations in all. Throws InputError.
@@ -131,6 +118,13 @@ struct Tally {
   std::vector<std::uint8_t> page_verdicts;  // --html: every configuration's verdict, the safe ones' targets
   std::vector<Vec3> page_targets;
   double check_seconds = 0.0;
+  std::size_t checked = 0;      // configurations with an exact distance (or in contact)
+  std::size_t pair_checks = 0;  // certified path: single-pair answers computed
+  std::size_t blocks = 0;       // certified path: blocks of the grid
+  // Certified path: the smallest lower bound of a configuration without an
+  // exact distance, and where (the closest may lie there).
+  double bound_min = std::numeric_limits<double>::infinity();
+  std::size_t bound_index = 0;
 
   std::size_t count(Verdict v) const {
     const auto found = counts.find(v);
@@ -201,9 +195,10 @@ struct GridOut {
   }
 };
 
-// Checks every configuration of the grid, in blocks of rows checked in
-// parallel and then written out and tallied in grid order.
-Tally check_configurations(const Checker& checker, const Scene& scene, const Grid& grid, const SweepArgs& args,
+// Checks every configuration of the grid on its own (--exact-distance,
+// --csv), in blocks of rows checked in parallel and then written out and
+// tallied in grid order.
+Tally check_each(const Checker& checker, const Scene& scene, const Grid& grid, const SweepArgs& args,
                            int threads, GridOut& outputs, std::ostream& err) {
   const std::vector<SweepAxis>& axes = grid.axes;
   const std::size_t total = grid.total;
@@ -287,7 +282,150 @@ Tally check_configurations(const Checker& checker, const Scene& scene, const Gri
   }
   progress.finish();
   tally.check_seconds = seconds_since(t_check);
+  tally.checked = total;
   return tally;
+}
+
+// Checks the grid in certified blocks (src/checks/sweep_certify.h): each
+// block's verdicts and distance bounds, written at their places in the
+// outputs; the tally is order-free (sums, minima with the grid index as
+// the tie-break), so blocks may finish in any order.
+Tally check_certified(const Checker& checker, const Scene& scene, const Grid& grid, const SweepArgs& args,
+                      int threads, GridOut& outputs, std::ostream& err) {
+  const std::vector<SweepAxis>& axes = grid.axes;
+  const std::size_t total = grid.total;
+  const SweepCertifier certifier(checker, scene, grid);
+  const SweepBlocks& blocks = certifier.blocks();
+  err << "plancheck: checking " << total << " configurations in " << blocks.blocks << " certified blocks on "
+      << threads << " threads\n";
+  const double unit = scene.length_scale;
+  const auto pairs = checker.pairs();
+  Tally tally;
+  tally.blocks = blocks.blocks;
+  tally.safe_by_value.resize(axes.size());
+  for (std::size_t k = 0; k < axes.size(); ++k) tally.safe_by_value[k].assign(axes[k].values.size(), 0);
+  tally.closest.min_distance = std::numeric_limits<double>::infinity();
+  if (args.html) tally.page_verdicts.assign(total, 0);
+  const auto t_check = std::chrono::steady_clock::now();
+  Progress progress("sweep", total, "configurations", ProgressOptions{.quiet = args.quiet}, &err);
+  std::mutex merge;
+  parallel_for(blocks.blocks, threads, 1, [&](std::size_t b0, std::size_t b1, int) {
+    SweepBlockResult r;
+    std::vector<std::size_t> first, size, digit;
+    std::vector<std::uint8_t> codes;
+    std::vector<float> dist;
+    std::vector<double> params;
+    for (std::size_t b = b0; b < b1; ++b) {
+      certifier.check_block(b, r);
+      blocks.block(b, first, size);
+      const std::size_t d = size.size();
+      const std::size_t n = r.verdict.size();
+      codes.resize(n);
+      dist.resize(n);
+      Tally t;  // this block's part
+      t.safe_by_value.resize(axes.size());
+      for (std::size_t k = 0; k < axes.size(); ++k) t.safe_by_value[k].assign(size[k], 0);
+      t.closest.min_distance = std::numeric_limits<double>::infinity();
+      digit.assign(d, 0);
+      for (std::size_t i = 0; i < n; ++i) {
+        const Verdict v = r.verdict[i];
+        codes[i] = sweep_verdict_code(v);
+        const bool collision = v == Verdict::kCollision;
+        // An exact distance may exceed verify's by the search's tie
+        // tolerance (another triangle pair within it): take it off, so the
+        // float stays at or below what checking the configuration alone gives.
+        const double lower = collision ? 0.0 : r.exact[i] ? r.distance[i] - kDistanceTieTolerance : r.distance[i];
+        dist[i] = distance_lower_bound(std::max(lower, 0.0), unit);
+        std::size_t index = 0;
+        for (std::size_t k = 0; k < d; ++k) index = index * axes[k].values.size() + first[k] + digit[k];
+        ++t.counts[v];
+        t.checked += r.exact[i];
+        if (collision) {
+          const auto& pr = pairs[static_cast<std::size_t>(r.pair[i])];
+          ++t.colliding_pairs[{pr.first, pr.second}];
+        } else if (r.exact[i] && r.pair[i] >= 0 &&
+                   (r.distance[i] < t.closest.min_distance ||
+                    (r.distance[i] == t.closest.min_distance && index < t.closest_index))) {
+          const auto& pr = pairs[static_cast<std::size_t>(r.pair[i])];
+          t.closest.verdict = v;
+          t.closest.min_distance = r.distance[i];
+          t.closest.part_a = pr.first;
+          t.closest.part_b = pr.second;
+          t.closest_index = index;
+        } else if (!collision && !r.exact[i] &&
+                   (r.distance[i] < t.bound_min || (r.distance[i] == t.bound_min && index < t.bound_index))) {
+          t.bound_min = r.distance[i];
+          t.bound_index = index;
+        }
+        if (args.html) tally.page_verdicts[index] = codes[i];  // disjoint per block
+        if (v == Verdict::kSafe) {
+          for (std::size_t k = 0; k < d; ++k) ++t.safe_by_value[k][digit[k]];
+          grid.decode(index, params, nullptr);
+          const Vec3 target = checker.target_point(params);
+          t.reach_lo = t.reach_lo.cwiseMin(target);
+          t.reach_hi = t.reach_hi.cwiseMax(target);
+        }
+        for (std::size_t k = d; k-- > 0;) {
+          if (++digit[k] < size[k]) break;
+          digit[k] = 0;
+        }
+      }
+      // The block's rows along the last axis are contiguous in the files.
+      const std::size_t run = d > 0 ? size[d - 1] : 1;
+      digit.assign(d, 0);
+      for (std::size_t i = 0; i < n; i += run) {
+        std::size_t index = 0;
+        for (std::size_t k = 0; k < d; ++k) index = index * axes[k].values.size() + first[k] + digit[k];
+        outputs.verdict.write(index, codes.data() + i, run);
+        outputs.distance.write(index, dist.data() + i, run);
+        for (std::size_t k = d - (d > 0 ? 1 : 0); k-- > 0;) {
+          if (++digit[k] < size[k]) break;
+          digit[k] = 0;
+        }
+      }
+      {
+        const std::lock_guard<std::mutex> lock(merge);
+        for (const auto& [v, c] : t.counts) tally.counts[v] += c;
+        for (const auto& [pr, c] : t.colliding_pairs) tally.colliding_pairs[pr] += c;
+        for (std::size_t k = 0; k < d; ++k)
+          for (std::size_t j = 0; j < size[k]; ++j) tally.safe_by_value[k][first[k] + j] += t.safe_by_value[k][j];
+        if (t.closest.part_a >= 0 &&
+            (t.closest.min_distance < tally.closest.min_distance ||
+             (t.closest.min_distance == tally.closest.min_distance && t.closest_index < tally.closest_index))) {
+          tally.closest = t.closest;
+          tally.closest_index = t.closest_index;
+        }
+        if (t.bound_min < tally.bound_min || (t.bound_min == tally.bound_min && t.bound_index < tally.bound_index)) {
+          tally.bound_min = t.bound_min;
+          tally.bound_index = t.bound_index;
+        }
+        tally.reach_lo = tally.reach_lo.cwiseMin(t.reach_lo);
+        tally.reach_hi = tally.reach_hi.cwiseMax(t.reach_hi);
+        tally.checked += t.checked;
+        tally.pair_checks += r.pair_checks;
+      }
+      progress.add(n);
+    }
+  });
+  progress.finish();
+  if (args.html) {
+    // The page's targets of safe configurations, in grid order.
+    for (std::size_t i = 0; i < total; ++i) {
+      if (tally.page_verdicts[i] != sweep_verdict_code(Verdict::kSafe)) continue;
+      grid.decode(i, params_scratch(), nullptr);
+      tally.page_targets.push_back(checker.target_point(params_scratch()));
+    }
+  }
+  tally.check_seconds = seconds_since(t_check);
+  return tally;
+}
+
+Tally check_configurations(const Checker& checker, const Scene& scene, const Grid& grid, const SweepArgs& args,
+                           int threads, GridOut& outputs, std::ostream& err) {
+  // sweep.csv lists each configuration's exact distance and pair: it and
+  // --exact-distance check every configuration on its own.
+  if (args.exact_distance || args.csv) return check_each(checker, scene, grid, args, threads, outputs, err);
+  return check_certified(checker, scene, grid, args, threads, outputs, err);
 }
 
 // sweep.json: report.json's conventions (lengths in length_unit, null for none).
@@ -318,9 +456,10 @@ Json summary_json(const SweepArgs& args, const Scene& scene, const Checker& chec
   }
   j["axes"] = jaxes;
   j["configurations"] = grid.total;
-  // Configurations that got an exact check (today: all of them, so
-  // distance.npy is exact everywhere).
-  j["checked"] = grid.total;
+  // Configurations whose distance is exact (in contact, or some pair
+  // within the cutoff): distance.npy is a certified lower bound elsewhere.
+  j["checked"] = tally.checked;
+  if (tally.blocks > 0) j["certified"] = {{"blocks", tally.blocks}, {"pair_checks", tally.pair_checks}};
   j["counts"] = {{"safe", safe},
                  {"collision", tally.count(Verdict::kCollision)},
                  {"clearance", tally.count(Verdict::kClearance)},
@@ -331,7 +470,7 @@ Json summary_json(const SweepArgs& args, const Scene& scene, const Checker& chec
                       {"configurations", c}});
   j["colliding_pairs"] = jpairs;
   const Row& closest = tally.closest;
-  if (std::isfinite(closest.min_distance)) {
+  if (std::isfinite(closest.min_distance) && closest.min_distance <= tally.bound_min) {
     std::vector<double> params;
     grid.decode(tally.closest_index, params, nullptr);
     Json at = Json::object();
@@ -341,6 +480,16 @@ Json summary_json(const SweepArgs& args, const Scene& scene, const Checker& chec
     j["min_distance"] = {{"distance", closest.min_distance / unit},
                          {"parts", {checker.part_name(closest.part_a), checker.part_name(closest.part_b)}},
                          {"at", at}};
+  } else if (std::isfinite(tally.bound_min)) {
+    // Every configuration without contact is certified beyond the cutoff:
+    // the smallest certified bound, where it holds, and no pair.
+    std::vector<double> params;
+    grid.decode(tally.bound_index, params, nullptr);
+    Json at = Json::object();
+    for (const SweepAxis& a : axes)
+      at[scene.parameter_names[static_cast<std::size_t>(a.parameter)]] =
+          params[static_cast<std::size_t>(a.parameter)];
+    j["min_distance"] = {{"distance", tally.bound_min / unit}, {"parts", nullptr}, {"at", at}, {"is_bound", true}};
   } else {
     j["min_distance"] = nullptr;
   }
@@ -383,15 +532,21 @@ void print_summary(std::ostream& out, const Scene& scene, const Checker& checker
     out << "  collides: " << checker.part_name(by_count[i].second.first) << " / "
         << checker.part_name(by_count[i].second.second) << " in " << by_count[i].first << " configurations\n";
   const Row& closest = tally.closest;
-  if (std::isfinite(closest.min_distance))
+  if (std::isfinite(closest.min_distance) && closest.min_distance <= tally.bound_min)
     out << "  closest without contact: " << num(closest.min_distance / unit) << " " << scene.length_unit << " ("
         << checker.part_name(closest.part_a) << " / " << checker.part_name(closest.part_b) << ")\n";
+  else if (std::isfinite(tally.bound_min))
+    out << "  closest without contact: at least " << num(tally.bound_min / unit) << " " << scene.length_unit
+        << " (certified)\n";
   const Vec3& lo = tally.reach_lo;
   const Vec3& hi = tally.reach_hi;
   if (safe > 0)
     out << "  safe target reach (" << scene.length_unit << "): x " << num(lo.x() / unit) << " .. "
         << num(hi.x() / unit) << ", y " << num(lo.y() / unit) << " .. " << num(hi.y() / unit)
         << ", z " << num(lo.z() / unit) << " .. " << num(hi.z() / unit) << "\n";
+  if (tally.blocks > 0)
+    out << "  exact distances at " << tally.checked << " configurations (" << pct(tally.checked)
+        << "%); the rest certified clear of the margin in " << tally.blocks << " blocks\n";
   const double check_seconds = tally.check_seconds;
   char line[160];
   std::snprintf(line, sizeof line, "%zu configurations, %.3f s (load %.3f, build %.3f, check %.3f), %d threads\n",

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 // `plancheck sweep`: the configuration space of a scene, checked on a grid.
-// Every configuration of the grid gets the state check of `verify`
-// (collision, exact minimum distance, limits) and the same verdict rules, so
-// the safe set it reports is the set of states `verify` would call safe.
+// Every configuration of the grid gets the verdict of `verify`'s state check
+// (collision, minimum distance against the margin, limits), certified in
+// blocks (src/checks/sweep_certify.h) or, with --exact-distance or --csv,
+// checked on its own; so the safe set it reports is the set of states
+// `verify` would call safe.
 #pragma once
 
 #include "src/checks/sweep_grid.h"
@@ -24,7 +26,7 @@ struct SweepArgs {
   bool quiet = false;                // no progress on stderr
   bool html = false;                 // also DIR/sweep.html (src/output/sweep_html.h)
   bool csv = false;                  // also DIR/sweep.csv (one row per configuration)
-  bool exact_distance = false;       // --exact-distance: distance.npy exact everywhere (it is: every configuration is checked exactly)
+  bool exact_distance = false;       // --exact-distance: every configuration checked on its own (distance.npy exact everywhere)
   std::optional<std::string> grid;   // --grid SPEC
   std::filesystem::path out = "plancheck-sweep";
   int threads = 0;                   // 0: all hardware threads

@@ -225,7 +225,7 @@ TEST(Sweep, AgreesWithVerifyOnTheDefaultScene) {
 }
 
 // Without --csv: the NumPy arrays and the summary only; sweep.json counts
-// what they hold and says every configuration got an exact check.
+// what they hold and how many configurations got an exact distance.
 TEST(Sweep, WithoutCsvWritesTheArraysAndTheSummary) {
   TempDir dir("sweep-npy");
   testing::write_bar_scene(dir);
@@ -235,7 +235,9 @@ TEST(Sweep, WithoutCsvWritesTheArraysAndTheSummary) {
   EXPECT_EQ(verdicts.shape, "(241,)");
   const auto summary = nlohmann::json::parse(read_text(dir / "out/sweep.json"));
   EXPECT_EQ(summary["configurations"], 241);
-  EXPECT_EQ(summary["checked"], 241);
+  // The certified sweep gives exact distances near the slab only.
+  EXPECT_GT(summary["checked"].get<int>(), 0);
+  EXPECT_LT(summary["checked"].get<int>(), 241);
   std::size_t counts[4] = {};
   for (char c : verdicts.data) ++counts[static_cast<unsigned char>(c)];
   EXPECT_EQ(counts[0], summary["counts"]["safe"]);

@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: MIT
+// Certified regions for plancheck sweep: whole boxes of the grid proven
+// clear pair by pair, exact checks only where a pair comes near the margin.
+//
+// Two savings, both exact:
+// - A pair's distance depends only on the parameters that move one of its
+//   parts relative to the other (Checker::pair_parameters): the lander's
+//   deck against the second arm link sees the first two joints, not the
+//   wrist. Pairs are grouped by the swept axes they see, and each group is
+//   answered over its own (smaller) projection of the grid.
+// - Within a group, a box of its projection is certified for a pair when
+//   the pair's distance at the box's centre exceeds the cutoff by more than
+//   the pair's parts can move relative to each other within the box
+//   (Checker::pair_motion, a bound on every point's path). A box where some
+//   pair fails is halved, and only the pairs still uncertified are asked
+//   again; small boxes are answered configuration by configuration for
+//   those pairs (exact distances below the cutoff), each answer's proven
+//   separations carried to the next as along a plan.
+// - A configuration already in contact through an earlier pair (in
+//   checked-pair order, from a group answered before) needs no later pair
+//   at all: the verdict and the first colliding pair are settled.
+// The cutoff is the verdict-only one (margin + 4G + tie tolerance, G a
+// bound on every pair's margin guard over the grid): a certified bound can
+// never read as a violation, and every distance below it is exact. So the
+// verdicts are those of checking every configuration, and distance.npy
+// holds a certified lower bound everywhere, exact where a pair came within
+// the cutoff (up to the distance search's tie tolerance).
+#pragma once
+
+#include "src/checks/sweep_grid.h"
+#include "src/checks/verify.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace plancheck {
+
+// What one block's configurations show, in C order within the block.
+struct SweepBlockResult {
+  std::vector<Verdict> verdict;
+  std::vector<double> distance;       // m: exact where exact[i], else a certified lower bound; 0 in contact
+  std::vector<std::uint8_t> exact;    // 1: distance is the configuration's minimum (or it collides)
+  std::vector<std::int32_t> pair;     // the first colliding pair (checked-pair order), else the closest
+                                      // pair when exact; -1 otherwise
+  std::size_t pair_checks = 0;        // single-pair answers computed (statistics)
+};
+
+class SweepCertifier {
+ public:
+  SweepCertifier(const Checker& checker, const Scene& scene, const SweepGrid& grid);
+
+  const SweepBlocks& blocks() const { return blocks_; }
+  // Distances at or beyond this (m) are certified bounds, below it exact.
+  double cutoff() const { return cutoff_; }
+  // How many pair groups the checked pairs fall into, and their axes.
+  std::size_t group_count() const { return groups_.size(); }
+
+  // Checks block b (thread-safe; the answer depends on b alone).
+  void check_block(std::size_t b, SweepBlockResult& out) const;
+
+ private:
+  struct Group {
+    std::vector<std::size_t> axes;   // indices into grid.axes, increasing
+    std::vector<std::size_t> pairs;  // checked pairs (Checker::pairs order), increasing
+  };
+  struct Answers;   // one group's answers over its projection of a block
+  struct Pending;   // a pair not yet certified in a box
+  struct Context;   // one group's work in one block
+  void certify(Context& c, std::vector<std::size_t>& lo, std::vector<std::size_t>& hi,
+               std::vector<Pending>& pending, double floor) const;
+  void answer_point(Context& c, const std::vector<std::size_t>& at, const std::vector<Pending>& pending,
+                    double floor) const;
+
+  const Checker& checker_;
+  const Scene& scene_;
+  const SweepGrid& grid_;
+  SweepBlocks blocks_;
+  std::vector<Group> groups_;
+  double cutoff_ = 0.0;
+  double guard_ = 0.0;  // G
+  // Limits, per axis and value and for the parameters no axis sweeps.
+  std::vector<std::vector<std::uint8_t>> outside_limits_;
+  bool fixed_outside_limits_ = false;
+};
+
+}  // namespace plancheck
