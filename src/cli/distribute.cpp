@@ -208,10 +208,7 @@ class RecordWriter {
     if (fd_ < 0) fail(file, std::string("cannot write: ") + std::strerror(errno));
     if (::ftruncate(fd_, static_cast<off_t>(keep_bytes)) != 0 || ::lseek(fd_, 0, SEEK_END) < 0)
       fail(file, std::string("cannot write: ") + std::strerror(errno));
-    if (keep_bytes == 0) {
-      put(std::string(kFormat) + "\n" + header + "\n");
-      sync();
-    }
+    if (keep_bytes == 0) put(std::string(kFormat) + "\n" + header + "\n");
   }
   ~RecordWriter() {
     if (fd_ >= 0) ::close(fd_);
@@ -239,10 +236,17 @@ class RecordWriter {
     std::memcpy(tail.data() + 1, &count, 8);
     std::memcpy(tail.data() + 9, &chain_, 8);
     put(tail);
-    sync();
+    sync(true);
   }
-  void sync() {
+  // After a chunk: to the disk, at most once a second (a sync costs tens of
+  // milliseconds on some disks, and a verify chunk may take less). A killed
+  // process loses no written record either way (the kernel holds them); a
+  // machine that goes down loses at most the last second's chunks.
+  void sync(bool now = false) {
+    const auto t = std::chrono::steady_clock::now();
+    if (!now && t - last_sync_ < std::chrono::seconds(1)) return;
     if (::fdatasync(fd_) != 0) fail(file_, std::string("cannot sync: ") + std::strerror(errno));
+    last_sync_ = t;
   }
 
  private:
@@ -258,6 +262,7 @@ class RecordWriter {
   int fd_ = -1;
   std::uint64_t chain_;
   std::size_t records_;
+  std::chrono::steady_clock::time_point last_sync_ = std::chrono::steady_clock::now();
 };
 
 // Contiguous runs of the items not yet done, cut at about `target` weight.
