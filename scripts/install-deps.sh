@@ -15,6 +15,7 @@ packages=(
   assimp-testmodels dart-doc
   clang libclang-rt-14-dev
   chromium
+  libopenmpi-dev openmpi-bin
 )
 # report.html's viewer is bundled with node/npm (src/viewer). Debian's nodejs
 # and npm only when the commands are missing: a NodeSource node brings its

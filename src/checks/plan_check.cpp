@@ -46,39 +46,47 @@ const char* verdict_name(Verdict v) {
 std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
                                      const std::vector<Plan>& plans, const VerifyOptions& options) {
   std::vector<PlanResult> results(plans.size());
-  std::vector<std::pair<std::size_t, std::size_t>> items;  // (plan, state)
   std::vector<std::vector<double>> state_seconds(plans.size());
+  // States are independent: shard them; each writes only its own slot.
+  // Within a run of up to kRun states of one plan, the states go in order,
+  // each seeding the next (coherence). Runs are fixed blocks of each plan's
+  // states, so which state seeds which, and hence which of several equally
+  // close pairs is reported, depends neither on the thread count nor on the
+  // other plans of the call (verify --shard and MPI check plans in groups).
+  constexpr std::size_t kRun = 16;
+  struct Run {
+    std::size_t plan, begin, end;
+  };
+  std::vector<Run> runs;
   for (std::size_t p = 0; p < plans.size(); ++p) {
+    const std::size_t n = plans[p].states.size();
     results[p].plan = &plans[p];
-    results[p].states.resize(plans[p].states.size());
-    state_seconds[p].resize(plans[p].states.size());
-    for (std::size_t s = 0; s < plans[p].states.size(); ++s) items.emplace_back(p, s);
+    results[p].states.resize(n);
+    state_seconds[p].resize(n);
+    for (std::size_t s = 0; s < n; s += kRun) runs.push_back(Run{p, s, std::min(n, s + kRun)});
   }
 
-  // States are independent: shard them; each writes only its own slot.
-  // Within a run of kRun items a plan's states go in order, each seeding the
-  // next (coherence). Runs are fixed blocks of the item list, so which state
-  // seeds which, and hence which of several equally close pairs is
-  // reported, does not depend on the thread count.
-  constexpr std::size_t kRun = 16;
-  const std::size_t runs = (items.size() + kRun - 1) / kRun;
   // A digging scene's terrain pairs wait for the dig pass (regolith.cpp),
   // which checks each state against the terrain as dug through that state.
   const bool terrain_later = options.regolith && checker.terrain_is_dug();
   const CheckRequest request = options.verdict_only ? verdict_only_request(scene.safety_margin) : CheckRequest{};
-  parallel_for(runs, options.threads, 1, [&](std::size_t run_begin, std::size_t run_end, int) {
-    StateSeed seed;
-    for (std::size_t i = run_begin * kRun; i < std::min(items.size(), run_end * kRun); ++i) {
-      const auto [p, s] = items[i];
-      if (i % kRun == 0 || items[i - 1].first != p) seed = StateSeed{};
-      const auto t0 = std::chrono::steady_clock::now();
-      if (terrain_later)
-        checker.check_state_without_terrain(plans[p].states[s], results[p].states[s], request, &seed);
-      else
-        checker.check_state(plans[p].states[s], results[p].states[s], request, &seed);
-      state_seconds[p][s] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  parallel_for(runs.size(), options.threads, 1, [&](std::size_t run_begin, std::size_t run_end, int) {
+    std::size_t done = 0;
+    for (std::size_t k = run_begin; k < run_end; ++k) {
+      const Run& run = runs[k];
+      const std::size_t p = run.plan;
+      StateSeed seed;
+      for (std::size_t s = run.begin; s < run.end; ++s) {
+        const auto t0 = std::chrono::steady_clock::now();
+        if (terrain_later)
+          checker.check_state_without_terrain(plans[p].states[s], results[p].states[s], request, &seed);
+        else
+          checker.check_state(plans[p].states[s], results[p].states[s], request, &seed);
+        state_seconds[p][s] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+      done += run.end - run.begin;
     }
-    if (options.progress) options.progress->add(std::min(items.size(), run_end * kRun) - run_begin * kRun);
+    if (options.progress) options.progress->add(done);
   });
 
   // Digging (with the terrain pairs of digging scenes) and probes, before

@@ -74,6 +74,22 @@ int main(int argc, char** argv) {
                    "clearance witness tolerance between states, in the scene's length unit (default 1e-5 m)")
       ->check(CLI::PositiveNumber)
       ->needs(continuous);
+  std::string verify_shard;
+  CLI::Option* shard_opt = verify_cmd->add_option(
+      "--shard", verify_shard, "I/N: check only the I-th (from 0) of N parts of the plans and write a partial result "
+                               "to DIR; plancheck merge joins the N parts");
+  verify_cmd->add_flag("--resume", verify.resume,
+                       "reuse what an interrupted run (or shard) with the same --out left there; redo only the rest");
+
+  plancheck::MergeArgs merge;
+  std::vector<std::string> merge_parts;
+  std::string merge_out = "plancheck-out";
+  CLI::App* merge_cmd = app.add_subcommand(
+      "merge", "join the partial results of verify --shard I/N (all N) into the files, lines and exit status of one run");
+  merge_cmd->add_option("DIR", merge_parts, "folders holding part-I-of-N.plancheck files")->required();
+  merge_cmd->add_option("--out", merge_out, "folder for the joined outputs")->capture_default_str();
+  merge_cmd->add_option("--threads", merge.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  merge_cmd->add_flag("--quiet", merge.quiet, "no status lines on stderr");
 
   plancheck::DigArgs dig;
   std::string dig_plan;
@@ -130,7 +146,12 @@ int main(int argc, char** argv) {
       verify.scene_options = scene_options(srdf, packages);
       verify.plans.assign(plan_files.begin(), plan_files.end());
       verify.out = out_dir;
+      if (*shard_opt) verify.shard = plancheck::parse_shard(verify_shard);
       return plancheck::run_verify(verify, std::cout, verify.quiet ? quiet_err : std::cerr);
+    } else if (merge_cmd->parsed()) {
+      merge.parts.assign(merge_parts.begin(), merge_parts.end());
+      merge.out = merge_out;
+      return plancheck::run_merge(merge, std::cout, merge.quiet ? quiet_err : std::cerr);
     } else if (dig_cmd->parsed()) {
       dig.scene = scene_file;
       dig.scene_options = scene_options(srdf, packages);

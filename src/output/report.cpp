@@ -247,6 +247,14 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
     report["seconds"]["continuous"] = info.continuous_seconds;
   }
   if (info.verdict_only) report["verdict_only"] = true;
+  if (info.ranks > 0) {
+    // Under mpirun: how the work was spread (timing-like fields, like "threads").
+    report["ranks"] = info.ranks;
+    report["hosts"] = info.hosts;
+    Json chunks = Json::array();
+    for (const ChunkSeconds& c : info.chunks) chunks.push_back({{"rank", c.rank}, {"items", {c.begin, c.end}}, {"seconds", c.seconds}});
+    report["seconds"]["chunks"] = chunks;
+  }
   write_atomically(dir / "report.json", report.dump(2) + "\n");
 }
 

@@ -12,6 +12,13 @@
 
 namespace plancheck {
 
+// One chunk of work an MPI run handed out (report.json "seconds"."chunks").
+struct ChunkSeconds {
+  int rank = 0;
+  std::size_t begin = 0, end = 0;  // work items [begin, end): verify's plans
+  double seconds = 0.0;            // compute time on that rank
+};
+
 struct RunInfo {
   std::filesystem::path scene_arg;  // the scene path as given on the command line
   int threads = 1;
@@ -23,6 +30,9 @@ struct RunInfo {
   double contact_tolerance = 0.0;     // m
   double continuous_seconds = 0.0;    // part of check_seconds spent between states
   bool verdict_only = false;          // verify --verdict-only: distances may be lower bounds, a verdict column
+  int ranks = 0;                      // MPI ranks (0: no MPI; report.json "ranks" only under MPI)
+  std::vector<std::string> hosts;     // MPI: the ranks' hosts, each once
+  std::vector<ChunkSeconds> chunks;   // MPI: per chunk, who computed it and how long
 };
 
 // A number as the CSVs print it: 12 significant digits ("" when not finite).
