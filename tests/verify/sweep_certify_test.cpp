@@ -149,11 +149,8 @@ TEST(SweepCertify, BarOverSlabEqualsCheckingEachConfiguration) {
   EXPECT_LT(run.summary["checked"].get<std::size_t>(), run.summary["configurations"].get<std::size_t>());
 }
 
-// A 2 mm wall in the way of a two-link arm (a URDF robot): configurations
-// touching it lie between others far from it. A box of the grid around a
-// far configuration that certified past the wall would call them safe.
-TEST(SweepCertify, ThinWallIsNotCertifiedAway) {
-  TempDir dir("sweep-certify-wall");
+// A 2 mm wall in the way of a two-link arm (a URDF robot).
+void write_wall_scene(const TempDir& dir) {
   write_text(dir / "arm.urdf", R"(<robot name="wall_arm">
   <link name="base"/>
   <link name="wall"><collision><origin xyz="1.2 0.9 0.5"/><geometry><box size="1.6 0.002 1.6"/></geometry></collision></link>
@@ -170,6 +167,14 @@ TEST(SweepCertify, ThinWallIsNotCertifiedAway) {
   "format": "plancheck-scene/1", "length_unit": "m", "angle_unit": "rad",
   "robot": {"urdf": "arm.urdf"}, "safety_margin": 0.02
 })");
+}
+
+// Configurations touching the wall lie between others far from it: a box
+// of the grid around a far configuration that certified past the wall
+// would call them safe.
+TEST(SweepCertify, ThinWallIsNotCertifiedAway) {
+  TempDir dir("sweep-certify-wall");
+  write_wall_scene(dir);
   const SweepRun run = expect_certified_equals_exact(dir / "scene.json", "J1=-3.1:3.1:0.02,J2=-1.5:1.5:0.05", dir);
   EXPECT_GT(run.summary["counts"]["collision"].get<std::size_t>(), 0u);
   EXPECT_GT(run.summary["counts"]["safe"].get<std::size_t>(), 0u);
@@ -178,6 +183,21 @@ TEST(SweepCertify, ThinWallIsNotCertifiedAway) {
   for (const auto& p : run.summary["colliding_pairs"])
     for (const auto& name : p["parts"]) wall = wall || name == "wall";
   EXPECT_TRUE(wall) << run.summary["colliding_pairs"].dump();
+}
+
+// The certified blocks on one and two threads (also run under
+// ThreadSanitizer: the name says Thread): the same files.
+TEST(SweepCertify, OneAndTwoThreadsWriteTheSameFiles) {
+  TempDir dir("sweep-certify-threads");
+  write_wall_scene(dir);
+  const std::string grid = "--grid J1=-3.1:3.1:0.05,J2=-1.5:1.5:0.1";
+  const SweepRun one = sweep(dir / "scene.json", grid + " --threads 1", dir / "one");
+  const SweepRun two = sweep(dir / "scene.json", grid + " --threads 2", dir / "two");
+  EXPECT_FALSE(one.verdict_bytes.empty());
+  EXPECT_EQ(one.verdict_bytes, two.verdict_bytes);
+  EXPECT_EQ(one.distance_bytes, two.distance_bytes);
+  EXPECT_EQ(without_timing(one.summary), without_timing(two.summary));
+  EXPECT_GT(one.summary["counts"]["collision"].get<std::size_t>(), 0u);
 }
 
 }  // namespace
