@@ -91,7 +91,17 @@ SweepCertifier::SweepCertifier(const Checker& checker, const Scene& scene, const
       if (std::binary_search(params.begin(), params.end(), grid.axes[a].parameter)) axes.push_back(a);
     by_axes[axes].push_back(k);
   }
-  for (auto& [axes, ks] : by_axes) groups_.push_back({axes, ks});
+  for (auto& [axes, ks] : by_axes) {
+    Group g{axes, ks, {}};
+    for (std::size_t k : ks) {
+      const auto [a, b] = checker.pairs()[k];
+      g.parts.push_back(a);
+      if (b != checker.terrain_index()) g.parts.push_back(b);
+    }
+    std::sort(g.parts.begin(), g.parts.end());
+    g.parts.erase(std::unique(g.parts.begin(), g.parts.end()), g.parts.end());
+    groups_.push_back(std::move(g));
+  }
   // Groups over fewer axes first: they are cheap, and a contact they find
   // spares the later groups every pair after it at those configurations.
   std::stable_sort(groups_.begin(), groups_.end(),
@@ -165,7 +175,7 @@ void SweepCertifier::answer_point(Context& c, const std::vector<std::size_t>& at
     out.pair[i] = -1;
     return;
   }
-  checker_.pose_parts(c.params, c.posed);
+  checker_.pose_parts(c.params, c.posed, g.parts);
   // What the pairs' last answers still prove here.
   std::vector<double>& since = c.since;
   since.assign(pending.size(), 0.0);
@@ -334,7 +344,7 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
       continue;
     }
     if (!posed_done) {
-      checker_.pose_parts(qc, c.posed);
+      checker_.pose_parts(qc, c.posed, g.parts);
       c.pool.push_back(qc);
       centre = c.pool.size() - 1;
       posed_done = true;

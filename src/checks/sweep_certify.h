@@ -63,6 +63,7 @@ class SweepCertifier {
   struct Group {
     std::vector<std::size_t> axes;   // indices into grid.axes, increasing
     std::vector<std::size_t> pairs;  // checked pairs (Checker::pairs order), increasing
+    std::vector<int> parts;          // their parts (not the terrain): what a configuration poses
   };
   struct Answers;   // one group's answers over its projection of a block
   struct Pending;   // a pair not yet certified in a box

@@ -632,13 +632,13 @@ Vec3 Checker::target_point(const std::vector<double>& params) const {
 
 // ---- Pair by pair (the sweep's certified regions) ----
 
-void Checker::pose_parts(const std::vector<double>& params, PosedParts& out) const {
-  chain_transforms(scene_, params, out.chains);
+void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std::span<const int> parts) const {
   static const Affine kIdentity = Affine::Identity();
   const std::size_t n = models_.size();
   out.pose.resize(n);
   out.box.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  out.chains.resize(scene_.chains.size());
+  auto pose_one = [&](std::size_t i) {
     if (chain_of_[i] >= 0) {
       out.pose[i] = &out.chains[static_cast<std::size_t>(chain_of_[i])];
       const Box b = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *out.pose[i]);
@@ -647,7 +647,20 @@ void Checker::pose_parts(const std::vector<double>& params, PosedParts& out) con
       out.pose[i] = &kIdentity;
       out.box[i] = static_boxes_[i];
     }
+  };
+  if (parts.empty()) {
+    chain_transforms(scene_, params, out.chains);
+    for (std::size_t i = 0; i < n; ++i) pose_one(i);
+    return;
   }
+  // Only the chains of these parts (the same composition chain_transforms runs).
+  for (int i : parts) {
+    if (i < 0 || static_cast<std::size_t>(i) >= n) continue;
+    const int c = chain_of_[static_cast<std::size_t>(i)];
+    if (c >= 0) out.chains[static_cast<std::size_t>(c)] = part_transform(scene_, i, params);
+  }
+  for (int i : parts)
+    if (i >= 0 && static_cast<std::size_t>(i) < n) pose_one(static_cast<std::size_t>(i));
 }
 
 namespace {

@@ -274,7 +274,8 @@ class Checker {
   // below: not exact, `upper` is that pair's distance). out's slots, when
   // seeded, start the search (the answer's distance may then differ within
   // the tie tolerance).
-  void pose_parts(const std::vector<double>& params, PosedParts& out) const;
+  // parts (optional): pose only these (and their chains); others keep what they held.
+  void pose_parts(const std::vector<double>& params, PosedParts& out, std::span<const int> parts = {}) const;
   bool pair_collides(const PosedParts& posed, std::size_t k) const;
   void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false) const;
   // The parameters (indices into Scene::parameter_names) the distance of
