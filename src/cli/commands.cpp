@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "src/cli/commands.h"
+#include "src/cli/sweep.h"
 
 #include "src/checks/continuous.h"
 #include "src/base/error.h"
@@ -267,7 +268,13 @@ int run_merge(const MergeArgs& args, std::ostream& out, std::ostream& err) {
     verify.quiet = args.quiet;
     return verify_run(verify, out, err, &set);
   }
-  // sweep's partial results: dispatch here to its merge (src/cli/sweep.cpp).
+  if (set.first().command == "sweep") {
+    SweepArgs sweep;
+    sweep.out = args.out;
+    sweep.threads = args.threads;
+    sweep.quiet = args.quiet;
+    return run_sweep_merge(set, sweep, out, err);
+  }
   fail(set.first().file, "merge: partial results of `" + set.first().command + "`, which this plancheck cannot merge");
 }
 

@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> merge_parts;
   std::string merge_out = "plancheck-out";
   CLI::App* merge_cmd = app.add_subcommand(
-      "merge", "join the partial results of verify --shard I/N (all N) into the files, lines and exit status of one run");
+      "merge", "join the partial results of verify or sweep --shard I/N (all N) into the files, lines and exit status of one run");
   merge_cmd->add_option("DIR", merge_parts, "folders holding part-I-of-N.plancheck files")->required();
   merge_cmd->add_option("--out", merge_out, "folder for the joined outputs")->capture_default_str();
   merge_cmd->add_option("--threads", merge.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
@@ -121,6 +121,12 @@ int main(int argc, char** argv) {
   sweep_cmd->add_flag("--html", sweep.html, "also write DIR/sweep.html: verdict heat maps, the arm, safe targets; one self-contained file");
   sweep_cmd->add_flag("--quiet", sweep.quiet, "no progress or status lines on stderr");
   sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  std::string sweep_shard;
+  CLI::Option* sweep_shard_opt = sweep_cmd->add_option(
+      "--shard", sweep_shard, "I/N: check only the I-th (from 0) of N parts of the grid and write a partial result "
+                              "to DIR; plancheck merge joins the N parts");
+  sweep_cmd->add_flag("--resume", sweep.resume,
+                      "reuse what an interrupted run (or shard) with the same --out left there; redo only the rest");
 
   CLI::App* bench_cmd = app.add_subcommand(
       "bench", "reproduce the paper's Table 3 beside FCL: SCENE [PLAN... | --random N [--seed S]] [--json FILE] [--fcl]; --two-mesh [--poses N] (runs plancheck_bench)");
@@ -164,6 +170,7 @@ int main(int argc, char** argv) {
       if (*steps_opt) sweep.steps = sweep_steps;
       if (*grid_opt) sweep.grid = sweep_grid;
       sweep.out = sweep_out;
+      if (*sweep_shard_opt) sweep.shard = plancheck::parse_shard(sweep_shard);
       return plancheck::run_sweep(sweep, std::cout, sweep.quiet ? quiet_err : std::cerr);
     } else if (bench_cmd->parsed()) {
       return plancheck::run_bench(bench_cmd->remaining(), std::cerr);

@@ -2,9 +2,15 @@
 // plancheck sweep (src/cli/sweep.h): load, parse the grid, build the
 // checker, check every configuration into verdict.npy, distance.npy (and
 // sweep.csv with --csv), then sweep.json, sweep.html and the stdout summary.
+// The checking runs as the engine's items (src/cli/distribute.h): certified
+// blocks, or with --csv/--exact-distance chunks of 2^16 rows; each item's
+// blob holds its verdict codes, float distances and tally part (or its
+// rows), consumed in item order by the one process that writes, so a
+// single run, shards + merge, --resume and mpirun write the same files.
 #include "src/cli/sweep.h"
 
 #include "src/base/error.h"
+#include "src/cli/distribute.h"
 #include "src/base/parallel.h"
 #include "src/base/progress.h"
 #include "src/checks/sweep_certify.h"
@@ -23,12 +29,16 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
-#include <mutex>
 #include <optional>
 #include <ostream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -195,237 +205,407 @@ struct GridOut {
   }
 };
 
-// Checks every configuration of the grid on its own (--exact-distance,
-// --csv), in blocks of rows checked in parallel and then written out and
-// tallied in grid order.
-Tally check_each(const Checker& checker, const Scene& scene, const Grid& grid, const SweepArgs& args,
-                           int threads, GridOut& outputs, std::ostream& err) {
-  const std::vector<SweepAxis>& axes = grid.axes;
-  const std::size_t total = grid.total;
-  err << "plancheck: checking " << total << " configurations on " << threads << " threads\n";
-  const double unit = scene.length_scale;
-  const double margin = scene.safety_margin;
-  Tally tally;
-  tally.safe_by_value.resize(axes.size());
-  for (std::size_t k = 0; k < axes.size(); ++k) tally.safe_by_value[k].assign(axes[k].values.size(), 0);
-  tally.closest.min_distance = std::numeric_limits<double>::infinity();
+// Item blobs (src/cli/distribute.h): little-endian fields appended in order,
+// doubles bit for bit, read back with bounds checks.
+class BlobOut {
+ public:
+  explicit BlobOut(std::string& s) : s_(s) {}
+  template <class T>
+  void put(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    s_.append(reinterpret_cast<const char*>(&v), sizeof v);
+  }
+  void bytes(const void* data, std::size_t n) { s_.append(static_cast<const char*>(data), n); }
 
+ private:
+  std::string& s_;
+};
+
+class BlobIn {
+ public:
+  explicit BlobIn(std::string_view s) : s_(s) {}
+  template <class T>
+  T get() {
+    static_assert(std::is_trivially_copyable_v<T>);
+    T v;
+    bytes(&v, sizeof v);
+    return v;
+  }
+  void bytes(void* data, std::size_t n) {
+    if (n > s_.size() - at_) throw std::runtime_error("record cut short");
+    std::memcpy(data, s_.data() + at_, n);
+    at_ += n;
+  }
+  void done() const {
+    if (at_ != s_.size()) throw std::runtime_error("record longer than its fields");
+  }
+
+ private:
+  std::string_view s_;
+  std::size_t at_ = 0;
+};
+
+// A fresh tally for the grid.
+Tally empty_tally(const Grid& grid) {
+  Tally tally;
+  tally.safe_by_value.resize(grid.axes.size());
+  for (std::size_t k = 0; k < grid.axes.size(); ++k) tally.safe_by_value[k].assign(grid.axes[k].values.size(), 0);
+  tally.closest.min_distance = std::numeric_limits<double>::infinity();
+  return tally;
+}
+
+// Checks configurations [begin, end) of the grid on its own each
+// (--exact-distance, --csv): rows checked in parallel, in runs seeded in order.
+void check_rows(const Checker& checker, const Scene& scene, const Grid& grid, std::size_t begin, std::size_t end,
+                int threads, Progress& progress, std::vector<Row>& rows) {
+  const double margin = scene.safety_margin;
   // The CSV names one colliding pair per configuration and no triangles.
   CheckRequest request;
   request.max_triangle_pairs = 0;
   request.all_contacts = false;
-  const auto t_check = std::chrono::steady_clock::now();
-  Progress progress("sweep", total, "configurations", ProgressOptions{.quiet = args.quiet}, &err);
-  constexpr std::size_t kBlock = std::size_t{1} << 16;  // rows held before writing
-  constexpr std::size_t kRun = 32;                      // states seeded in order
-  std::vector<Row> rows;
-  std::vector<std::uint8_t> verdict_block;
-  std::vector<float> distance_block;
-  std::vector<double> params;
-  std::vector<std::size_t> digits(axes.size());
-  for (std::size_t block = 0; block < total; block += kBlock) {
-    const std::size_t n = std::min(kBlock, total - block);
-    rows.assign(n, Row{});
-    parallel_for((n + kRun - 1) / kRun, threads, 1, [&](std::size_t rb, std::size_t re, int) {
-      std::vector<double> p;
-      StateResult st;
-      for (std::size_t r = rb; r < re; ++r) {
-        StateSeed seed;
-        for (std::size_t i = r * kRun; i < std::min(n, (r + 1) * kRun); ++i) {
-          grid.decode(block + i, p, nullptr);
-          checker.check_state(p, st, request, &seed);
-          Row& row = rows[i];
-          row.verdict = state_verdict(st, margin);
-          row.collision = st.collision;
-          row.min_distance = st.min_distance;
-          if (st.collision) {
-            row.part_a = st.contacts[0].part_a;
-            row.part_b = st.contacts[0].part_b;
-          } else {
-            row.part_a = st.part_a;
-            row.part_b = st.part_b;
-          }
-          row.target = checker.target_point(p);
+  constexpr std::size_t kRun = 32;  // states seeded in order
+  const std::size_t n = end - begin;
+  rows.assign(n, Row{});
+  parallel_for((n + kRun - 1) / kRun, threads, 1, [&](std::size_t rb, std::size_t re, int) {
+    std::vector<double> p;
+    StateResult st;
+    for (std::size_t r = rb; r < re; ++r) {
+      StateSeed seed;
+      for (std::size_t i = r * kRun; i < std::min(n, (r + 1) * kRun); ++i) {
+        grid.decode(begin + i, p, nullptr);
+        checker.check_state(p, st, request, &seed);
+        Row& row = rows[i];
+        row.verdict = state_verdict(st, margin);
+        row.collision = st.collision;
+        row.min_distance = st.min_distance;
+        if (st.collision) {
+          row.part_a = st.contacts[0].part_a;
+          row.part_b = st.contacts[0].part_b;
+        } else {
+          row.part_a = st.part_a;
+          row.part_b = st.part_b;
         }
-        progress.add(std::min(n, (r + 1) * kRun) - r * kRun);
+        row.target = checker.target_point(p);
       }
-    });
-    verdict_block.resize(n);
-    distance_block.resize(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      verdict_block[i] = sweep_verdict_code(rows[i].verdict);
-      distance_block[i] = distance_lower_bound(rows[i].collision ? 0.0 : rows[i].min_distance, unit);
-    }
-    outputs.verdict.write(block, verdict_block.data(), n);
-    outputs.distance.write(block, distance_block.data(), n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const Row& row = rows[i];
-      grid.decode(block + i, params, &digits);
-      ++tally.counts[row.verdict];
-      if (row.collision) {
-        // Every colliding pair of the state would need the contacts kept;
-        // the first is what the row names.
-        ++tally.colliding_pairs[{row.part_a, row.part_b}];
-      } else if (row.part_a >= 0 && row.min_distance < tally.closest.min_distance) {
-        tally.closest = row;
-        tally.closest_index = block + i;
-      }
-      if (args.html) tally.page_verdicts.push_back(sweep_verdict_code(row.verdict));
-      if (row.verdict == Verdict::kSafe) {
-        if (args.html) tally.page_targets.push_back(row.target);
-        for (std::size_t k = 0; k < axes.size(); ++k) ++tally.safe_by_value[k][digits[k]];
-        tally.reach_lo = tally.reach_lo.cwiseMin(row.target);
-        tally.reach_hi = tally.reach_hi.cwiseMax(row.target);
-      }
-      if (outputs.csv) outputs.csv->row(axes, params, row, checker, unit);
-    }
-  }
-  progress.finish();
-  tally.check_seconds = seconds_since(t_check);
-  tally.checked = total;
-  return tally;
-}
-
-// Checks the grid in certified blocks (src/checks/sweep_certify.h): each
-// block's verdicts and distance bounds, written at their places in the
-// outputs; the tally is order-free (sums, minima with the grid index as
-// the tie-break), so blocks may finish in any order.
-Tally check_certified(const Checker& checker, const Scene& scene, const Grid& grid, const SweepArgs& args,
-                      int threads, GridOut& outputs, std::ostream& err) {
-  const std::vector<SweepAxis>& axes = grid.axes;
-  const std::size_t total = grid.total;
-  const SweepCertifier certifier(checker, scene, grid);
-  const SweepBlocks& blocks = certifier.blocks();
-  err << "plancheck: checking " << total << " configurations in " << blocks.blocks << " certified blocks on "
-      << threads << " threads\n";
-  const double unit = scene.length_scale;
-  const auto pairs = checker.pairs();
-  Tally tally;
-  tally.blocks = blocks.blocks;
-  tally.safe_by_value.resize(axes.size());
-  for (std::size_t k = 0; k < axes.size(); ++k) tally.safe_by_value[k].assign(axes[k].values.size(), 0);
-  tally.closest.min_distance = std::numeric_limits<double>::infinity();
-  if (args.html) tally.page_verdicts.assign(total, 0);
-  const auto t_check = std::chrono::steady_clock::now();
-  Progress progress("sweep", total, "configurations", ProgressOptions{.quiet = args.quiet}, &err);
-  std::mutex merge;
-  parallel_for(blocks.blocks, threads, 1, [&](std::size_t b0, std::size_t b1, int) {
-    SweepBlockResult r;
-    std::vector<std::size_t> first, size, digit;
-    std::vector<std::uint8_t> codes;
-    std::vector<float> dist;
-    std::vector<double> params;
-    for (std::size_t b = b0; b < b1; ++b) {
-      certifier.check_block(b, r);
-      blocks.block(b, first, size);
-      const std::size_t d = size.size();
-      const std::size_t n = r.verdict.size();
-      codes.resize(n);
-      dist.resize(n);
-      Tally t;  // this block's part
-      t.safe_by_value.resize(axes.size());
-      for (std::size_t k = 0; k < axes.size(); ++k) t.safe_by_value[k].assign(size[k], 0);
-      t.closest.min_distance = std::numeric_limits<double>::infinity();
-      digit.assign(d, 0);
-      for (std::size_t i = 0; i < n; ++i) {
-        const Verdict v = r.verdict[i];
-        codes[i] = sweep_verdict_code(v);
-        const bool collision = v == Verdict::kCollision;
-        // An exact distance may exceed verify's by the search's tie
-        // tolerance (another triangle pair within it): take it off, so the
-        // float stays at or below what checking the configuration alone gives.
-        const double lower = collision ? 0.0 : r.exact[i] ? r.distance[i] - kDistanceTieTolerance : r.distance[i];
-        dist[i] = distance_lower_bound(std::max(lower, 0.0), unit);
-        std::size_t index = 0;
-        for (std::size_t k = 0; k < d; ++k) index = index * axes[k].values.size() + first[k] + digit[k];
-        ++t.counts[v];
-        t.checked += r.exact[i];
-        if (collision) {
-          const auto& pr = pairs[static_cast<std::size_t>(r.pair[i])];
-          ++t.colliding_pairs[{pr.first, pr.second}];
-        } else if (r.exact[i] && r.pair[i] >= 0 &&
-                   (r.distance[i] < t.closest.min_distance ||
-                    (r.distance[i] == t.closest.min_distance && index < t.closest_index))) {
-          const auto& pr = pairs[static_cast<std::size_t>(r.pair[i])];
-          t.closest.verdict = v;
-          t.closest.min_distance = r.distance[i];
-          t.closest.part_a = pr.first;
-          t.closest.part_b = pr.second;
-          t.closest_index = index;
-        } else if (!collision && !r.exact[i] &&
-                   (r.distance[i] < t.bound_min || (r.distance[i] == t.bound_min && index < t.bound_index))) {
-          t.bound_min = r.distance[i];
-          t.bound_index = index;
-        }
-        if (args.html) tally.page_verdicts[index] = codes[i];  // disjoint per block
-        if (v == Verdict::kSafe) {
-          for (std::size_t k = 0; k < d; ++k) ++t.safe_by_value[k][digit[k]];
-          grid.decode(index, params, nullptr);
-          const Vec3 target = checker.target_point(params);
-          t.reach_lo = t.reach_lo.cwiseMin(target);
-          t.reach_hi = t.reach_hi.cwiseMax(target);
-        }
-        for (std::size_t k = d; k-- > 0;) {
-          if (++digit[k] < size[k]) break;
-          digit[k] = 0;
-        }
-      }
-      // The block's rows along the last axis are contiguous in the files.
-      const std::size_t run = d > 0 ? size[d - 1] : 1;
-      digit.assign(d, 0);
-      for (std::size_t i = 0; i < n; i += run) {
-        std::size_t index = 0;
-        for (std::size_t k = 0; k < d; ++k) index = index * axes[k].values.size() + first[k] + digit[k];
-        outputs.verdict.write(index, codes.data() + i, run);
-        outputs.distance.write(index, dist.data() + i, run);
-        for (std::size_t k = d - (d > 0 ? 1 : 0); k-- > 0;) {
-          if (++digit[k] < size[k]) break;
-          digit[k] = 0;
-        }
-      }
-      {
-        const std::lock_guard<std::mutex> lock(merge);
-        for (const auto& [v, c] : t.counts) tally.counts[v] += c;
-        for (const auto& [pr, c] : t.colliding_pairs) tally.colliding_pairs[pr] += c;
-        for (std::size_t k = 0; k < d; ++k)
-          for (std::size_t j = 0; j < size[k]; ++j) tally.safe_by_value[k][first[k] + j] += t.safe_by_value[k][j];
-        if (t.closest.part_a >= 0 &&
-            (t.closest.min_distance < tally.closest.min_distance ||
-             (t.closest.min_distance == tally.closest.min_distance && t.closest_index < tally.closest_index))) {
-          tally.closest = t.closest;
-          tally.closest_index = t.closest_index;
-        }
-        if (t.bound_min < tally.bound_min || (t.bound_min == tally.bound_min && t.bound_index < tally.bound_index)) {
-          tally.bound_min = t.bound_min;
-          tally.bound_index = t.bound_index;
-        }
-        tally.reach_lo = tally.reach_lo.cwiseMin(t.reach_lo);
-        tally.reach_hi = tally.reach_hi.cwiseMax(t.reach_hi);
-        tally.checked += t.checked;
-        tally.pair_checks += r.pair_checks;
-      }
-      progress.add(n);
+      progress.add(std::min(n, (r + 1) * kRun) - r * kRun);
     }
   });
-  progress.finish();
-  if (args.html) {
-    // The page's targets of safe configurations, in grid order.
-    for (std::size_t i = 0; i < total; ++i) {
-      if (tally.page_verdicts[i] != sweep_verdict_code(Verdict::kSafe)) continue;
-      grid.decode(i, params_scratch(), nullptr);
-      tally.page_targets.push_back(checker.target_point(params_scratch()));
-    }
-  }
-  tally.check_seconds = seconds_since(t_check);
-  return tally;
 }
 
-Tally check_configurations(const Checker& checker, const Scene& scene, const Grid& grid, const SweepArgs& args,
-                           int threads, GridOut& outputs, std::ostream& err) {
-  // sweep.csv lists each configuration's exact distance and pair: it and
-  // --exact-distance check every configuration on its own.
-  if (args.exact_distance || args.csv) return check_each(checker, scene, grid, args, threads, outputs, err);
-  return check_certified(checker, scene, grid, args, threads, outputs, err);
+void put_row(BlobOut& o, const Row& row) {
+  o.put(static_cast<std::int32_t>(row.verdict));
+  o.put(static_cast<std::uint8_t>(row.collision));
+  o.put(static_cast<std::int32_t>(row.part_a));
+  o.put(static_cast<std::int32_t>(row.part_b));
+  o.put(row.min_distance);
+  for (int k = 0; k < 3; ++k) o.put(row.target[k]);
+}
+
+Row get_row(BlobIn& in) {
+  Row row;
+  row.verdict = static_cast<Verdict>(in.get<std::int32_t>());
+  row.collision = in.get<std::uint8_t>() != 0;
+  row.part_a = in.get<std::int32_t>();
+  row.part_b = in.get<std::int32_t>();
+  row.min_distance = in.get<double>();
+  for (int k = 0; k < 3; ++k) row.target[k] = in.get<double>();
+  return row;
+}
+
+// Writes rows [begin, begin + rows.size()) into the outputs and the tally,
+// in grid order.
+void consume_rows(const Checker& checker, const Scene& scene, const Grid& grid, const SweepArgs& args,
+                  std::size_t begin, const std::vector<Row>& rows, GridOut& outputs, Tally& tally) {
+  const std::vector<SweepAxis>& axes = grid.axes;
+  const double unit = scene.length_scale;
+  const std::size_t n = rows.size();
+  std::vector<std::uint8_t> verdict_block(n);
+  std::vector<float> distance_block(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    verdict_block[i] = sweep_verdict_code(rows[i].verdict);
+    distance_block[i] = distance_lower_bound(rows[i].collision ? 0.0 : rows[i].min_distance, unit);
+  }
+  outputs.verdict.write(begin, verdict_block.data(), n);
+  outputs.distance.write(begin, distance_block.data(), n);
+  std::vector<double>& params = params_scratch();
+  std::vector<std::size_t> digits(axes.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const Row& row = rows[i];
+    grid.decode(begin + i, params, &digits);
+    ++tally.counts[row.verdict];
+    if (row.collision) {
+      // Every colliding pair of the state would need the contacts kept;
+      // the first is what the row names.
+      ++tally.colliding_pairs[{row.part_a, row.part_b}];
+    } else if (row.part_a >= 0 && row.min_distance < tally.closest.min_distance) {
+      tally.closest = row;
+      tally.closest_index = begin + i;
+    }
+    if (args.html) tally.page_verdicts.push_back(sweep_verdict_code(row.verdict));
+    if (row.verdict == Verdict::kSafe) {
+      if (args.html) tally.page_targets.push_back(row.target);
+      for (std::size_t k = 0; k < axes.size(); ++k) ++tally.safe_by_value[k][digits[k]];
+      tally.reach_lo = tally.reach_lo.cwiseMin(row.target);
+      tally.reach_hi = tally.reach_hi.cwiseMax(row.target);
+    }
+    if (outputs.csv) outputs.csv->row(axes, params, row, checker, unit);
+  }
+  tally.checked += n;
+}
+
+// One certified block's answer (SweepCertifier::check_block), as written
+// and tallied: its configurations' verdict codes and float distances (C
+// order within the block) and its part of the tally.
+struct BlockPart {
+  std::vector<std::uint8_t> codes;
+  std::vector<float> dist;
+  Tally t;
+  std::size_t pair_checks = 0;
+};
+
+void check_block_part(const Checker& checker, const Scene& scene, const Grid& grid, const SweepCertifier& certifier,
+                      std::size_t b, SweepBlockResult& r, BlockPart& part) {
+  const std::vector<SweepAxis>& axes = grid.axes;
+  const double unit = scene.length_scale;
+  const auto pairs = checker.pairs();
+  std::vector<std::size_t> first, size, digit;
+  std::vector<double> params;
+  certifier.check_block(b, r);
+  certifier.blocks().block(b, first, size);
+  const std::size_t d = size.size();
+  const std::size_t n = r.verdict.size();
+  part.codes.resize(n);
+  part.dist.resize(n);
+  part.pair_checks = r.pair_checks;
+  Tally& t = part.t;  // this block's part
+  t = Tally{};
+  t.safe_by_value.resize(axes.size());
+  for (std::size_t k = 0; k < axes.size(); ++k) t.safe_by_value[k].assign(size[k], 0);
+  t.closest.min_distance = std::numeric_limits<double>::infinity();
+  digit.assign(d, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Verdict v = r.verdict[i];
+    part.codes[i] = sweep_verdict_code(v);
+    const bool collision = v == Verdict::kCollision;
+    // An exact distance may exceed verify's by the search's tie
+    // tolerance (another triangle pair within it): take it off, so the
+    // float stays at or below what checking the configuration alone gives.
+    const double lower = collision ? 0.0 : r.exact[i] ? r.distance[i] - kDistanceTieTolerance : r.distance[i];
+    part.dist[i] = distance_lower_bound(std::max(lower, 0.0), unit);
+    std::size_t index = 0;
+    for (std::size_t k = 0; k < d; ++k) index = index * axes[k].values.size() + first[k] + digit[k];
+    ++t.counts[v];
+    t.checked += r.exact[i];
+    if (collision) {
+      const auto& pr = pairs[static_cast<std::size_t>(r.pair[i])];
+      ++t.colliding_pairs[{pr.first, pr.second}];
+    } else if (r.exact[i] && r.pair[i] >= 0 &&
+               (r.distance[i] < t.closest.min_distance ||
+                (r.distance[i] == t.closest.min_distance && index < t.closest_index))) {
+      const auto& pr = pairs[static_cast<std::size_t>(r.pair[i])];
+      t.closest.verdict = v;
+      t.closest.min_distance = r.distance[i];
+      t.closest.part_a = pr.first;
+      t.closest.part_b = pr.second;
+      t.closest_index = index;
+    } else if (!collision && !r.exact[i] &&
+               (r.distance[i] < t.bound_min || (r.distance[i] == t.bound_min && index < t.bound_index))) {
+      t.bound_min = r.distance[i];
+      t.bound_index = index;
+    }
+    if (v == Verdict::kSafe) {
+      for (std::size_t k = 0; k < d; ++k) ++t.safe_by_value[k][digit[k]];
+      grid.decode(index, params, nullptr);
+      const Vec3 target = checker.target_point(params);
+      t.reach_lo = t.reach_lo.cwiseMin(target);
+      t.reach_hi = t.reach_hi.cwiseMax(target);
+    }
+    for (std::size_t k = d; k-- > 0;) {
+      if (++digit[k] < size[k]) break;
+      digit[k] = 0;
+    }
+  }
+}
+
+std::string block_blob(const BlockPart& p) {
+  std::string s;
+  BlobOut o(s);
+  const Tally& t = p.t;
+  o.put(static_cast<std::uint64_t>(p.codes.size()));
+  o.bytes(p.codes.data(), p.codes.size());
+  o.bytes(p.dist.data(), p.dist.size() * sizeof(float));
+  o.put(static_cast<std::uint64_t>(t.counts.size()));
+  for (const auto& [v, c] : t.counts) {
+    o.put(static_cast<std::int32_t>(v));
+    o.put(static_cast<std::uint64_t>(c));
+  }
+  o.put(static_cast<std::uint64_t>(t.colliding_pairs.size()));
+  for (const auto& [pr, c] : t.colliding_pairs) {
+    o.put(static_cast<std::int32_t>(pr.first));
+    o.put(static_cast<std::int32_t>(pr.second));
+    o.put(static_cast<std::uint64_t>(c));
+  }
+  o.put(static_cast<std::int32_t>(t.closest.verdict));
+  o.put(t.closest.min_distance);
+  o.put(static_cast<std::int32_t>(t.closest.part_a));
+  o.put(static_cast<std::int32_t>(t.closest.part_b));
+  o.put(static_cast<std::uint64_t>(t.closest_index));
+  o.put(t.bound_min);
+  o.put(static_cast<std::uint64_t>(t.bound_index));
+  o.put(static_cast<std::uint64_t>(t.safe_by_value.size()));
+  for (const auto& axis : t.safe_by_value) {
+    o.put(static_cast<std::uint64_t>(axis.size()));
+    for (std::size_t c : axis) o.put(static_cast<std::uint64_t>(c));
+  }
+  for (int k = 0; k < 3; ++k) o.put(t.reach_lo[k]);
+  for (int k = 0; k < 3; ++k) o.put(t.reach_hi[k]);
+  o.put(static_cast<std::uint64_t>(t.checked));
+  o.put(static_cast<std::uint64_t>(p.pair_checks));
+  return s;
+}
+
+void read_block_blob(std::string_view blob, BlockPart& p) {
+  BlobIn in(blob);
+  Tally& t = p.t;
+  t = Tally{};
+  const auto n = in.get<std::uint64_t>();
+  if (n > blob.size()) throw std::runtime_error("record cut short");
+  p.codes.resize(n);
+  p.dist.resize(n);
+  in.bytes(p.codes.data(), n);
+  in.bytes(p.dist.data(), n * sizeof(float));
+  for (auto c = in.get<std::uint64_t>(); c > 0; --c) {
+    const auto v = static_cast<Verdict>(in.get<std::int32_t>());
+    t.counts[v] = in.get<std::uint64_t>();
+  }
+  for (auto c = in.get<std::uint64_t>(); c > 0; --c) {
+    const int a = in.get<std::int32_t>();
+    const int b = in.get<std::int32_t>();
+    t.colliding_pairs[{a, b}] = in.get<std::uint64_t>();
+  }
+  t.closest.verdict = static_cast<Verdict>(in.get<std::int32_t>());
+  t.closest.min_distance = in.get<double>();
+  t.closest.part_a = in.get<std::int32_t>();
+  t.closest.part_b = in.get<std::int32_t>();
+  t.closest_index = in.get<std::uint64_t>();
+  t.bound_min = in.get<double>();
+  t.bound_index = in.get<std::uint64_t>();
+  const auto axes = in.get<std::uint64_t>();
+  if (axes > blob.size()) throw std::runtime_error("record cut short");
+  t.safe_by_value.resize(axes);
+  for (auto& axis : t.safe_by_value) {
+    const auto m = in.get<std::uint64_t>();
+    if (m > blob.size()) throw std::runtime_error("record cut short");
+    axis.resize(m);
+    for (auto& c : axis) c = in.get<std::uint64_t>();
+  }
+  for (int k = 0; k < 3; ++k) t.reach_lo[k] = in.get<double>();
+  for (int k = 0; k < 3; ++k) t.reach_hi[k] = in.get<double>();
+  t.checked = in.get<std::uint64_t>();
+  p.pair_checks = in.get<std::uint64_t>();
+  in.done();
+}
+
+// Writes block b at its places in the outputs and merges its tally part
+// (sums; minima with the smallest grid index as the tie-break).
+void consume_block(const SweepBlocks& blocks, const Grid& grid, const SweepArgs& args, std::size_t b,
+                   const BlockPart& part, GridOut& outputs, Tally& tally) {
+  const std::vector<SweepAxis>& axes = grid.axes;
+  std::vector<std::size_t> first, size, digit;
+  blocks.block(b, first, size);
+  const std::size_t d = size.size();
+  std::size_t n = 1;
+  for (std::size_t s : size) n *= s;
+  const Tally& t = part.t;
+  if (part.codes.size() != n || t.safe_by_value.size() != d)
+    throw std::runtime_error("block " + std::to_string(b) + " does not fit the grid");
+  for (std::size_t k = 0; k < d; ++k)
+    if (t.safe_by_value[k].size() != size[k]) throw std::runtime_error("block " + std::to_string(b) + " does not fit the grid");
+  // The block's rows along the last axis are contiguous in the files.
+  const std::size_t run = d > 0 ? size[d - 1] : 1;
+  digit.assign(d, 0);
+  for (std::size_t i = 0; i < n; i += run) {
+    std::size_t index = 0;
+    for (std::size_t k = 0; k < d; ++k) index = index * axes[k].values.size() + first[k] + digit[k];
+    outputs.verdict.write(index, part.codes.data() + i, run);
+    outputs.distance.write(index, part.dist.data() + i, run);
+    if (args.html) std::copy_n(part.codes.data() + i, run, tally.page_verdicts.data() + index);
+    for (std::size_t k = d - (d > 0 ? 1 : 0); k-- > 0;) {
+      if (++digit[k] < size[k]) break;
+      digit[k] = 0;
+    }
+  }
+  for (const auto& [v, c] : t.counts) tally.counts[v] += c;
+  for (const auto& [pr, c] : t.colliding_pairs) tally.colliding_pairs[pr] += c;
+  for (std::size_t k = 0; k < d; ++k)
+    for (std::size_t j = 0; j < size[k]; ++j) tally.safe_by_value[k][first[k] + j] += t.safe_by_value[k][j];
+  if (t.closest.part_a >= 0 &&
+      (t.closest.min_distance < tally.closest.min_distance ||
+       (t.closest.min_distance == tally.closest.min_distance && t.closest_index < tally.closest_index))) {
+    tally.closest = t.closest;
+    tally.closest_index = t.closest_index;
+  }
+  if (t.bound_min < tally.bound_min || (t.bound_min == tally.bound_min && t.bound_index < tally.bound_index)) {
+    tally.bound_min = t.bound_min;
+    tally.bound_index = t.bound_index;
+  }
+  tally.reach_lo = tally.reach_lo.cwiseMin(t.reach_lo);
+  tally.reach_hi = tally.reach_hi.cwiseMax(t.reach_hi);
+  tally.checked += t.checked;
+  tally.pair_checks += part.pair_checks;
+}
+
+// What decides sweep's results and files, as text: a shard writes it into
+// its partial result and `plancheck merge` sets the run up again from it.
+// --threads, --quiet, --out, --shard and --resume are not in it.
+std::string sweep_setup(const SweepArgs& a) {
+  Json packages = Json::object();
+  for (const auto& [name, dir] : a.scene_options.packages) packages[name] = dir.string();
+  Json s = {{"scene", a.scene.string()},
+            {"srdf", a.scene_options.srdf.string()},
+            {"packages", packages},
+            {"steps", a.steps ? Json(*a.steps) : Json(nullptr)},
+            {"grid", a.grid ? Json(*a.grid) : Json(nullptr)},
+            {"csv", a.csv},
+            {"exact_distance", a.exact_distance},
+            {"html", a.html}};
+  return s.dump();
+}
+
+SweepArgs sweep_args_from_setup(const std::string& text, const std::filesystem::path& file) {
+  SweepArgs a;
+  try {
+    const Json s = Json::parse(text);
+    a.scene = s.at("scene").get<std::string>();
+    a.scene_options.srdf = s.at("srdf").get<std::string>();
+    for (const auto& [name, dir] : s.at("packages").items()) a.scene_options.packages[name] = dir.get<std::string>();
+    if (!s.at("steps").is_null()) a.steps = s.at("steps").get<long>();
+    if (!s.at("grid").is_null()) a.grid = s.at("grid").get<std::string>();
+    a.csv = s.at("csv").get<bool>();
+    a.exact_distance = s.at("exact_distance").get<bool>();
+    a.html = s.at("html").get<bool>();
+  } catch (const nlohmann::json::exception&) {
+    fail(file, "its sweep setup is not readable (corrupt)");
+  }
+  return a;
+}
+
+// The run's fingerprint: the setup and the bytes it reads (scene file,
+// terrain, the parts' meshes as loaded).
+std::string sweep_fingerprint(const std::string& setup, const Scene& scene) {
+  Fingerprint fp;
+  fp.add("sweep");
+  fp.add(setup);
+  fp.add_file(scene.file);
+  if (scene.terrain) fp.add_file(scene.terrain->dem);
+  for (const Part& part : scene.parts) {
+    fp.add(part.name);
+    fp.add(std::string_view(reinterpret_cast<const char*>(part.mesh.vertices.data()),
+                            part.mesh.vertices.size() * sizeof(Vec3)));
+    fp.add(std::string_view(reinterpret_cast<const char*>(part.mesh.triangles.data()),
+                            part.mesh.triangles.size() * sizeof(Tri)));
+  }
+  return fp.hex();
 }
 
 // sweep.json: report.json's conventions (lengths in length_unit, null for none).
@@ -555,30 +735,190 @@ void print_summary(std::ostream& out, const Scene& scene, const Checker& checker
   out << line;
 }
 
-}  // namespace
+// sweep for a single run, a shard, an MPI rank (merge == nullptr), or
+// plancheck merge (merge: the partial results to write the outputs from).
+int sweep_run(const SweepArgs& args, std::ostream& out, std::ostream& err, const PartialSet* merge) {
+  const bool mpi = !merge && under_mpi();
+  const int rank = mpi ? mpi_rank() : 0;
+  std::ostream silent(nullptr);
+  std::ostream& log = rank == 0 ? err : silent;  // one rank speaks
+  const bool may_write = rank == 0 && !args.shard;
 
-int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
   const auto t_load = std::chrono::steady_clock::now();
-  err << "plancheck: loading " << args.scene.string() << "\n";
+  log << "plancheck: loading " << args.scene.string() << "\n";
   const Scene scene = load_scene(args.scene, args.scene_options);
   const Grid grid = parse_grid(scene, args);
+  const std::string setup = sweep_setup(args);
+  const std::string fingerprint = sweep_fingerprint(setup, scene);
+  if (merge && merge->first().fingerprint != fingerprint)
+    fail(merge->first().file, "merge: the scene read now differs from the one the shards checked "
+                              "(files changed since, or merge run from another folder)");
   const double load_seconds = seconds_since(t_load);
 
   const int threads = args.threads > 0 ? args.threads : hardware_threads();
   const auto t_build = std::chrono::steady_clock::now();
-  err << "plancheck: building collision structures\n";
+  log << "plancheck: building collision structures\n";
   const Checker checker(scene, threads);
   const double build_seconds = seconds_since(t_build);
 
-  prepare_out(args.out);
-  GridOut outputs(scene, grid, args);
-  const Tally tally = check_configurations(checker, scene, grid, args, threads, outputs, err);
-  outputs.finish();
+  // sweep.csv lists each configuration's exact distance and pair: it and
+  // --exact-distance check every configuration on its own, in chunks of
+  // 2^16 rows; otherwise the grid is certified in fixed blocks.
+  const bool each = args.exact_distance || args.csv;
+  std::optional<SweepCertifier> certifier;
+  if (!each) certifier.emplace(checker, scene, grid);
+  constexpr std::size_t kRows = std::size_t{1} << 16;
+  std::vector<std::uint64_t> weights;
+  if (each) {
+    for (std::size_t b = 0; b < grid.total; b += kRows) weights.push_back(std::min(kRows, grid.total - b));
+  } else {
+    std::vector<std::size_t> first, size;
+    for (std::size_t b = 0; b < certifier->blocks().blocks; ++b) {
+      certifier->blocks().block(b, first, size);
+      std::uint64_t n = 1;
+      for (std::size_t s : size) n *= s;
+      weights.push_back(n);
+    }
+  }
 
-  write_summary_json(summary_json(args, scene, checker, grid, tally, threads, load_seconds, build_seconds), args.out);
+  std::optional<GridOut> outputs;
+  if (may_write || merge) {
+    prepare_out(args.out);
+    outputs.emplace(scene, grid, args);
+  } else if (args.shard) {
+    std::error_code ec;
+    std::filesystem::create_directories(args.out, ec);
+  }
+  Tally tally = empty_tally(grid);
+  if (!each) tally.blocks = certifier->blocks().blocks;
+  if (args.html && !each && outputs) tally.page_verdicts.assign(grid.total, 0);
+
+  double consume_seconds = 0.0;
+  BlockPart consumed;
+  std::vector<Row> consumed_rows;
+  const ConsumeItem consume = [&](std::size_t item, std::string_view blob) {
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      if (each) {
+        BlobIn in(blob);
+        const auto n = in.get<std::uint64_t>();
+        if (n != weights[item]) throw std::runtime_error("rows do not fit the grid");
+        consumed_rows.resize(n);
+        for (Row& row : consumed_rows) row = get_row(in);
+        in.done();
+        consume_rows(checker, scene, grid, args, item * kRows, consumed_rows, *outputs, tally);
+      } else {
+        read_block_blob(blob, consumed);
+        consume_block(certifier->blocks(), grid, args, item, consumed, *outputs, tally);
+      }
+    } catch (const std::runtime_error& e) {
+      if (dynamic_cast<const InputError*>(&e)) throw;
+      throw InputError("sweep: item " + std::to_string(item) + ": " + e.what());
+    }
+    consume_seconds += seconds_since(t0);
+  };
+
+  const auto t_check = std::chrono::steady_clock::now();
+  DistResult dist;
+  if (merge) {
+    log << "plancheck: merging " << merge->parts.size() << " partial results of " << grid.total
+        << " configurations\n";
+    read_partials(*merge, consume);
+  } else {
+    DistOptions dist_options;
+    dist_options.command = "sweep";
+    dist_options.fingerprint = fingerprint;
+    dist_options.setup = setup;
+    dist_options.out = args.out;
+    dist_options.shard = args.shard;
+    dist_options.resume = args.resume;
+    dist_options.log = &log;
+    if (each)
+      log << "plancheck: checking " << grid.total << " configurations on " << threads << " threads";
+    else
+      log << "plancheck: checking " << grid.total << " configurations in " << certifier->blocks().blocks
+          << " certified blocks on " << threads << " threads";
+    log << (mpi ? " per rank, " + std::to_string(mpi_size()) + " MPI ranks" : std::string()) << "\n";
+    Progress progress("sweep", grid.total, "configurations", ProgressOptions{.quiet = args.quiet || rank != 0}, &log);
+    const ComputeItems compute = [&](std::size_t begin, std::size_t end) {
+      std::vector<std::string> blobs(end - begin);
+      if (each) {
+        std::vector<Row> rows;
+        for (std::size_t item = begin; item < end; ++item) {
+          const std::size_t first = item * kRows;
+          check_rows(checker, scene, grid, first, first + weights[item], threads, progress, rows);
+          std::string& s = blobs[item - begin];
+          BlobOut o(s);
+          o.put(static_cast<std::uint64_t>(rows.size()));
+          for (const Row& row : rows) put_row(o, row);
+        }
+      } else {
+        // The chunk's blocks in parallel; each block's answer depends on it alone.
+        parallel_for(end - begin, threads, 1, [&](std::size_t b0, std::size_t b1, int) {
+          SweepBlockResult r;
+          BlockPart part;
+          for (std::size_t i = b0; i < b1; ++i) {
+            check_block_part(checker, scene, grid, *certifier, begin + i, r, part);
+            blobs[i] = block_blob(part);
+            progress.add(part.codes.size());
+          }
+        });
+      }
+      return blobs;
+    };
+    dist = run_items(dist_options, weights, compute, consume);
+    progress.finish();
+    if (dist.role == DistRole::kWorker) return 0;
+    if (dist.role == DistRole::kShard) {
+      log << "plancheck: wrote " << dist.partial.string() << " (shard " << args.shard->index << " of "
+          << args.shard->count << "; plancheck merge joins the shards)\n";
+      return 0;
+    }
+  }
+  if (args.html && !each) {
+    // The page's targets of safe configurations, in grid order.
+    for (std::size_t i = 0; i < grid.total; ++i) {
+      if (tally.page_verdicts[i] != sweep_verdict_code(Verdict::kSafe)) continue;
+      grid.decode(i, params_scratch(), nullptr);
+      tally.page_targets.push_back(checker.target_point(params_scratch()));
+    }
+  }
+  tally.check_seconds = seconds_since(t_check);
+  outputs->finish();
+
+  Json summary = summary_json(args, scene, checker, grid, tally, threads, load_seconds, build_seconds);
+  if (dist.ranks > 0) {
+    summary["ranks"] = dist.ranks;
+    summary["hosts"] = dist.hosts;
+    Json chunks = Json::array();
+    for (const ChunkTime& c : dist.chunks)
+      chunks.push_back({{"rank", c.rank}, {"items", {c.begin, c.end}}, {"seconds", c.seconds}});
+    summary["seconds"]["chunks"] = chunks;
+    summary["seconds"]["write"] = consume_seconds;  // rank 0's consume: blobs into the files and the tally
+  }
+  write_summary_json(summary, args.out);
   if (args.html) write_sweep_html(checker, scene, grid.axes, tally.page_verdicts, tally.page_targets, args.out);
+  if (!merge) {
+    DistOptions o;
+    o.out = args.out;
+    finish_items(o);  // the outputs are written: the journal goes
+  }
   print_summary(out, scene, checker, grid, tally, threads, load_seconds, build_seconds);
   return 0;
+}
+
+}  // namespace
+
+int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err) {
+  return sweep_run(args, out, err, nullptr);
+}
+
+int run_sweep_merge(const PartialSet& set, const SweepArgs& options, std::ostream& out, std::ostream& err) {
+  SweepArgs args = sweep_args_from_setup(set.first().setup, set.first().file);
+  args.out = options.out;
+  args.threads = options.threads;
+  args.quiet = options.quiet;
+  return sweep_run(args, out, err, &set);
 }
 
 }  // namespace plancheck

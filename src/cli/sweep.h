@@ -8,6 +8,7 @@
 #pragma once
 
 #include "src/checks/sweep_grid.h"
+#include "src/cli/distribute.h"
 #include "src/scene/scene_loader.h"
 
 #include <cstddef>
@@ -30,11 +31,18 @@ struct SweepArgs {
   std::optional<std::string> grid;   // --grid SPEC
   std::filesystem::path out = "plancheck-sweep";
   int threads = 0;                   // 0: all hardware threads
+  std::optional<Shard> shard;        // --shard I/N: a partial result in DIR (src/cli/distribute.h)
+  bool resume = false;               // --resume: reuse DIR's journal (or partial result)
 };
 
 // Writes DIR/verdict.npy and DIR/distance.npy (the grid's shape), DIR/sweep.json
 // (the summary) and with --csv DIR/sweep.csv (one row per configuration),
 // prints the summary; returns 0. Input errors throw InputError.
 int run_sweep(const SweepArgs& args, std::ostream& out, std::ostream& err);
+
+// plancheck merge of sweep's partial results (open_partials): the run set up
+// again from their setup, with options' out, threads and quiet; the files,
+// stdout and status of the single run.
+int run_sweep_merge(const PartialSet& set, const SweepArgs& options, std::ostream& out, std::ostream& err);
 
 }  // namespace plancheck

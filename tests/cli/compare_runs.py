@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Compares two verify output folders as the contract asks: the same file
-names (no file more, no file less), every file byte-identical except
-report.json (and the JSON inside report.html), which are equal once the
+"""Compares two verify (or sweep) output folders as the contract asks: the
+same file names (no file more, no file less), every file byte-identical
+except report.json / sweep.json (and the JSON inside report.html /
+sweep.html), which are equal once the
 fields named seconds, threads, ranks and hosts are removed wherever they
 appear. Also a no-terrain scene from a dataset (--no-terrain SCENE OUT).
 Exit 0 when equal; otherwise prints the first difference, exit 1."""
@@ -36,10 +37,10 @@ def compare(a, b):
         return f"files differ: {a}: {fa} / {b}: {fb}"
     for name in fa:
         pa, pb = os.path.join(a, name), os.path.join(b, name)
-        if name == "report.json":
+        if name in ("report.json", "sweep.json"):
             if strip(json.load(open(pa))) != strip(json.load(open(pb))):
                 return f"{name}: differs beyond the timing fields"
-        elif name == "report.html":
+        elif name in ("report.html", "sweep.html"):
             if html_parts(pa) != html_parts(pb):
                 return f"{name}: differs beyond the timing fields of its report"
         elif open(pa, "rb").read() != open(pb, "rb").read():
