@@ -835,7 +835,7 @@ int sweep_run(const SweepArgs& args, std::ostream& out, std::ostream& err, const
     dist_options.log = &log;
     // Certified blocks differ up to twenty-fold in cost, and a chunk ends
     // with its slowest block, the other core idle: on one machine, two
-    // chunks (the engine's default, eight, made the 5-degree grid 14%
+    // chunks (the engine's default, eight, made the 5-degree grid 13%
     // slower). --resume then redoes at most half the grid.
     if (!each && !args.shard && !mpi) dist_options.chunk_weight = (grid.total + 1) / 2;
     if (each)
