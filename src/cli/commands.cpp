@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "src/cli/commands.h"
+#include "src/cli/run_setup.h"
 #include "src/cli/sweep.h"
 
 #include "src/checks/continuous.h"
@@ -38,16 +39,17 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // ran. --threads, --quiet, --shard and --resume are not in it: results do
 // not depend on them.
 std::string verify_setup(const VerifyArgs& a) {
-  Json packages = Json::object();
-  for (const auto& [name, dir] : a.scene_options.packages) packages[name] = dir.string();
   Json plans = Json::array();
   for (const auto& p : a.plans) plans.push_back(p.string());
-  Json s = {{"scene", a.scene.string()},       {"srdf", a.scene_options.srdf.string()},
-            {"packages", packages},            {"plans", plans},
-            {"dig_carry", a.dig_carry},        {"continuous", a.continuous},
-            {"continuous_tolerance", a.continuous_tolerance},
-            {"verdict_only", a.verdict_only},  {"html", a.html},
-            {"json", a.json}};
+  Json s = Json::object();
+  put_scene_setup(s, a.scene, a.scene_options);
+  s["plans"] = plans;
+  s["dig_carry"] = a.dig_carry;
+  s["continuous"] = a.continuous;
+  s["continuous_tolerance"] = a.continuous_tolerance;
+  s["verdict_only"] = a.verdict_only;
+  s["html"] = a.html;
+  s["json"] = a.json;
   return s.dump();
 }
 
@@ -55,10 +57,8 @@ VerifyArgs verify_args_from_setup(const std::string& text, const std::filesystem
   VerifyArgs a;
   try {
     const Json s = Json::parse(text);
-    a.scene = s.at("scene").get<std::string>();
-    a.scene_options.srdf = s.at("srdf").get<std::string>();
-    for (const auto& [name, dir] : s.at("packages").items()) a.scene_options.packages[name] = dir.get<std::string>();
-    for (const auto& p : s.at("plans")) a.plans.emplace_back(p.get<std::string>());
+    get_scene_setup(s, a.scene, a.scene_options);
+  for (const auto& p : s.at("plans")) a.plans.emplace_back(p.get<std::string>());
     a.dig_carry = s.at("dig_carry").get<bool>();
     a.continuous = s.at("continuous").get<bool>();
     a.continuous_tolerance = s.at("continuous_tolerance").get<double>();
@@ -77,15 +77,7 @@ std::string verify_fingerprint(const std::string& setup, const Scene& scene, con
   Fingerprint fp;
   fp.add("verify");
   fp.add(setup);
-  fp.add_file(scene.file);
-  if (scene.terrain) fp.add_file(scene.terrain->dem);
-  for (const Part& part : scene.parts) {
-    fp.add(part.name);
-    fp.add(std::string_view(reinterpret_cast<const char*>(part.mesh.vertices.data()),
-                            part.mesh.vertices.size() * sizeof(Vec3)));
-    fp.add(std::string_view(reinterpret_cast<const char*>(part.mesh.triangles.data()),
-                            part.mesh.triangles.size() * sizeof(Tri)));
-  }
+  fingerprint_scene(fp, scene);
   for (const Plan& p : plans) fp.add_file(p.file);
   return fp.hex();
 }

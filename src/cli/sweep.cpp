@@ -8,6 +8,7 @@
 // rows), consumed in item order by the one process that writes, so a
 // single run, shards + merge, --resume and mpirun write the same files.
 #include "src/cli/sweep.h"
+#include "src/cli/run_setup.h"
 
 #include "src/base/error.h"
 #include "src/cli/distribute.h"
@@ -559,16 +560,13 @@ void consume_block(const SweepBlocks& blocks, const Grid& grid, const SweepArgs&
 // its partial result and `plancheck merge` sets the run up again from it.
 // --threads, --quiet, --out, --shard and --resume are not in it.
 std::string sweep_setup(const SweepArgs& a) {
-  Json packages = Json::object();
-  for (const auto& [name, dir] : a.scene_options.packages) packages[name] = dir.string();
-  Json s = {{"scene", a.scene.string()},
-            {"srdf", a.scene_options.srdf.string()},
-            {"packages", packages},
-            {"steps", a.steps ? Json(*a.steps) : Json(nullptr)},
-            {"grid", a.grid ? Json(*a.grid) : Json(nullptr)},
-            {"csv", a.csv},
-            {"exact_distance", a.exact_distance},
-            {"html", a.html}};
+  Json s = Json::object();
+  put_scene_setup(s, a.scene, a.scene_options);
+  s["steps"] = a.steps ? Json(*a.steps) : Json(nullptr);
+  s["grid"] = a.grid ? Json(*a.grid) : Json(nullptr);
+  s["csv"] = a.csv;
+  s["exact_distance"] = a.exact_distance;
+  s["html"] = a.html;
   return s.dump();
 }
 
@@ -576,9 +574,7 @@ SweepArgs sweep_args_from_setup(const std::string& text, const std::filesystem::
   SweepArgs a;
   try {
     const Json s = Json::parse(text);
-    a.scene = s.at("scene").get<std::string>();
-    a.scene_options.srdf = s.at("srdf").get<std::string>();
-    for (const auto& [name, dir] : s.at("packages").items()) a.scene_options.packages[name] = dir.get<std::string>();
+    get_scene_setup(s, a.scene, a.scene_options);
     if (!s.at("steps").is_null()) a.steps = s.at("steps").get<long>();
     if (!s.at("grid").is_null()) a.grid = s.at("grid").get<std::string>();
     a.csv = s.at("csv").get<bool>();
@@ -596,15 +592,7 @@ std::string sweep_fingerprint(const std::string& setup, const Scene& scene) {
   Fingerprint fp;
   fp.add("sweep");
   fp.add(setup);
-  fp.add_file(scene.file);
-  if (scene.terrain) fp.add_file(scene.terrain->dem);
-  for (const Part& part : scene.parts) {
-    fp.add(part.name);
-    fp.add(std::string_view(reinterpret_cast<const char*>(part.mesh.vertices.data()),
-                            part.mesh.vertices.size() * sizeof(Vec3)));
-    fp.add(std::string_view(reinterpret_cast<const char*>(part.mesh.triangles.data()),
-                            part.mesh.triangles.size() * sizeof(Tri)));
-  }
+  fingerprint_scene(fp, scene);
   return fp.hex();
 }
 
