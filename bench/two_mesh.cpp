@@ -71,7 +71,8 @@ struct PoseAnswer {
 
 // plancheck's answer for one pose, as Checker::check_state asks it of one
 // part pair: collide (first contact only), then the exact distance unless
-// they collide (DistanceRequest with verify's tie tolerance, 1e-12 m).
+// they collide (DistanceRequest with verify's tie tolerance, 1e-12 m; the
+// search told the pair is disjoint, as the collision test just proved).
 PoseAnswer plancheck_check(const CollisionModel& object, const Affine& pose, const CollisionModel& env,
                            bool with_distance) {
   static const Affine kIdentity = Affine::Identity();
@@ -82,8 +83,9 @@ PoseAnswer plancheck_check(const CollisionModel& object, const Affine& pose, con
   a.distance = c.collide ? 0.0 : std::numeric_limits<double>::infinity();
   if (c.collide || !with_distance) return a;
   DistanceResult d;
-  distance(object, pose, env, kIdentity,
-           DistanceRequest{std::numeric_limits<double>::infinity(), 0.0, kDistanceTieTolerance}, d);
+  DistanceRequest request{std::numeric_limits<double>::infinity(), 0.0, kDistanceTieTolerance};
+  request.known_disjoint = true;
+  distance(object, pose, env, kIdentity, request, d);
   a.distance = d.distance;
   return a;
 }

@@ -43,7 +43,7 @@ void lower_none(const LeafPairInput& in, float, LeafPairBounds& out) noexcept {
   }
 }
 
-constexpr LeafKernels kLeafKernelsNone{"none", 1, &touch_none, &lower_none};
+constexpr LeafKernels kLeafKernelsNone{"none", 1, &touch_none, &lower_none, &touch_none};
 
 const LeafKernels* choose() noexcept {
   // Without SIMD lanes the prefilter costs more than it saves (Table 3

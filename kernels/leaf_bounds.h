@@ -82,6 +82,9 @@ struct LeafKernels {
   void (*touch_masks)(const LeafPairInput& in, std::uint32_t* touch) noexcept;
   // lower2 for every pair and candidates against cut2 (squared, m^2).
   void (*lower_bounds)(const LeafPairInput& in, float cut2, LeafPairBounds& out) noexcept;
+  // touch_masks without its row and column pre-pass (the same bits; tests
+  // compare the two).
+  void (*touch_masks_all)(const LeafPairInput& in, std::uint32_t* touch) noexcept;
 };
 
 // A model's side of a query, for make_leaf_pair.

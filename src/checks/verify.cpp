@@ -382,6 +382,14 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     return request.distance && g2 > 0.0 ? std::sqrt(g2) : g2;
   };
   const bool terrain_live = terrain && terrain->triangle_count() > 0;
+  // The first contact's answer as distance() gives it (a common point),
+  // taken from the collision test itself instead of a second traversal.
+  DistanceResult first_contact;
+  auto collide_request = [&] {
+    CollideRequest c{request.max_triangle_pairs};
+    if (request.distance && out.contacts.empty()) c.contact = &first_contact;
+    return c;
+  };
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     const auto [a, b, empty] = pairs_[k];
     const bool on_terrain = b == terrain_index_;
@@ -395,7 +403,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       lower[k] = std::max(gap(box[a], terrain_box), carried[k]);
       if (lower[k] > 0.0) continue;
       CollideResult r;
-      collide(models_[a], *pose[a], *terrain, CollideRequest{request.max_triangle_pairs}, r);
+      collide(models_[a], *pose[a], *terrain, collide_request(), r);
       if (!r.collide) continue;
       const auto& ka = kept_[static_cast<std::size_t>(a)];
       for (auto& ij : r.triangle_pairs)
@@ -407,7 +415,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     lower[k] = std::max(gap(box[a], box[b]), carried[k]);
     if (lower[k] > 0.0) continue;
     CollideResult r;
-    collide(models_[a], *pose[a], models_[b], *pose[b], CollideRequest{request.max_triangle_pairs}, r);
+    collide(models_[a], *pose[a], models_[b], *pose[b], collide_request(), r);
     if (!r.collide) continue;
     // Back to mesh triangle indices where triangles were left out.
     const auto& ka = kept_[static_cast<std::size_t>(a)];
@@ -522,6 +530,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       if (lower[k] >= best * coarse) break;
       const int a = pairs_[k].a, b = pairs_[k].b;
       DistanceRequest q{best, kProbeTolerance, 0.0};
+      q.known_disjoint = true;  // no contact (this branch): see below
       DistanceResult r;
       if (b == terrain_index_)
         distance(models_[a], *pose[a], *terrain, q, r);
@@ -555,15 +564,25 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     }
     const int a = pairs_[k].a, b = pairs_[k].b;
     DistanceRequest q{out.min_distance, request.rel_tolerance, kDistanceTieTolerance};
+    // Without a contact every pair here was proven apart at this very pose:
+    // by its box gap or carried separation (lower[k] > 0), or by the exact
+    // collision test above, with the same models and transforms; the
+    // search need not run its own.
+    q.known_disjoint = !out.collision;
     if (seeded) {
       q.seed_slot_a = hint.slot_a;
       q.seed_slot_b = hint.slot_b;
     }
     DistanceResult r;
-    if (b == terrain_index_)
+    if (out.collision) {
+      // The first contact's pair (the only one in order): what distance()
+      // would find, its collision pass stopping at the same first pair.
+      if (q.upper_bound > 0.0) r = first_contact;
+    } else if (b == terrain_index_) {
       distance(models_[a], *pose[a], *terrain, q, r);
-    else
+    } else {
       distance(models_[a], *pose[a], models_[b], *pose[b], q, r);
+    }
     // The pair's distance is at least what the search found, or else what
     // it looked below, each less its tolerances (with rel_tolerance a found
     // distance may exceed the pair's by that factor); rounding of the double

@@ -719,6 +719,32 @@ struct DistanceQuery {
 
 }  // namespace
 
+namespace {
+
+// distance()'s answer for a pose where collide_in found `hit`: a common
+// point of that triangle pair (intersecting, so tri_distance gives one).
+void contact_answer(const Setup& s, const FirstHit& hit, DistanceResult& result) {
+  double p[9], q[9];
+  s.a.triangle(hit.slot_a, p);
+  s.b.triangle(hit.slot_b, q);
+  const TriDistance d = tri_distance(p, q);
+  Vec3 pa = s.to_world * d.point_p, pb = s.to_world * d.point_q;
+  std::uint32_t ia = s.a.data->bvh.prim_ids[hit.slot_a];
+  std::uint32_t ib = s.b.data->bvh.prim_ids[hit.slot_b];
+  if (s.swapped) {
+    std::swap(ia, ib);
+    std::swap(pa, pb);
+  }
+  result.found = true;
+  result.distance = 0.0;
+  result.point_a = pa;
+  result.point_b = pb;
+  result.triangle_a = ia;
+  result.triangle_b = ib;
+}
+
+}  // namespace
+
 void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
              const CollideRequest& request, CollideResult& result) {
   result.collide = false;
@@ -726,7 +752,12 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
   result.node_pairs_visited = result.triangle_pairs_tested = 0;
   if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
   const Setup s = make_setup(a, ta, b, tb);
-  collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, nullptr);
+  FirstHit hit;
+  collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, request.contact ? &hit : nullptr);
+  if (request.contact && hit.found) {
+    *request.contact = DistanceResult{};
+    contact_answer(s, hit, *request.contact);
+  }
 }
 
 void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
@@ -745,23 +776,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
     result.node_pairs_visited += c.node_pairs_visited;
     result.triangle_pairs_tested += c.triangle_pairs_tested;
     if (hit.found) {
-      double p[9], q[9];
-      s.a.triangle(hit.slot_a, p);
-      s.b.triangle(hit.slot_b, q);
-      const TriDistance d = tri_distance(p, q);  // intersecting: a common point
-      Vec3 pa = s.to_world * d.point_p, pb = s.to_world * d.point_q;
-      std::uint32_t ia = s.a.data->bvh.prim_ids[hit.slot_a];
-      std::uint32_t ib = s.b.data->bvh.prim_ids[hit.slot_b];
-      if (s.swapped) {
-        std::swap(ia, ib);
-        std::swap(pa, pb);
-      }
-      result.found = true;
-      result.distance = 0.0;
-      result.point_a = pa;
-      result.point_b = pb;
-      result.triangle_a = ia;
-      result.triangle_b = ib;
+      contact_answer(s, hit, result);
       return;
     }
   }

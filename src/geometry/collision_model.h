@@ -33,9 +33,16 @@ class CollisionModel {
   std::unique_ptr<CollisionModelData> data_;
 };
 
+struct DistanceResult;
+
 struct CollideRequest {
   // Intersecting triangle pairs to list; 0: stop at the first (it is listed).
   std::size_t max_triangle_pairs = 16;
+  // When set and the sets touch: filled exactly as distance() at this pose
+  // would fill it (distance 0, a common point of the first pair listed), so
+  // a caller that wants both needs one traversal, not two. Untouched when
+  // they do not touch. nullptr: not wanted.
+  DistanceResult* contact = nullptr;
 };
 
 struct CollideResult {

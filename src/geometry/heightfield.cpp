@@ -647,6 +647,28 @@ bool triangle_pair(const HfQuery& q, std::uint32_t slot, std::uint32_t tri, doub
   return false;
 }
 
+// What distance() reports for a found pair: world points, mesh indices.
+void finish_answer(const HfQuery& q, std::uint32_t slot, std::uint32_t tri, const Vec3& pp, const Vec3& pt,
+                   double d, DistanceResult& result) {
+  result.found = true;
+  result.distance = d;
+  result.point_a = q.to_world * pp;
+  result.point_b = q.to_world * pt;
+  result.triangle_a = q.part->bvh.prim_ids[slot];
+  result.triangle_b = tri;
+  result.slot_a = slot;
+  result.slot_b = tri;
+}
+
+// distance()'s answer for a pose where collide_in found `hit`: a common
+// point of that pair (nothing when its triangles cannot be rebuilt).
+void contact_answer(const HfQuery& q, const Hit& hit, DistanceResult& result) {
+  double p[9], t[9];
+  if (!triangle_pair(q, hit.slot, hit.tri, p, t)) return;
+  const TriDistance d = q.common_point(p, t);
+  finish_answer(q, hit.slot, hit.tri, d.point_p, d.point_q, 0.0, result);
+}
+
 }  // namespace
 
 void collide(const CollisionModel& a, const Affine& ta, const Heightfield& terrain, const CollideRequest& request,
@@ -657,7 +679,12 @@ void collide(const CollisionModel& a, const Affine& ta, const Heightfield& terra
   if (a.triangle_count() == 0 || terrain.triangle_count() == 0) return;
   HfQuery q;
   q.setup(a, ta, terrain);
-  collide_in(q, std::max<std::size_t>(1, request.max_triangle_pairs), result, nullptr);
+  Hit hit;
+  collide_in(q, std::max<std::size_t>(1, request.max_triangle_pairs), result, request.contact ? &hit : nullptr);
+  if (request.contact && hit.found) {
+    *request.contact = DistanceResult{};
+    contact_answer(q, hit, *request.contact);
+  }
 }
 
 void distance(const CollisionModel& a, const Affine& ta, const Heightfield& terrain, const DistanceRequest& request,
@@ -669,14 +696,7 @@ void distance(const CollisionModel& a, const Affine& ta, const Heightfield& terr
   if (!(request.upper_bound > 0.0)) return;
   const Heightfield& hf = terrain;
   auto finish = [&](std::uint32_t slot, std::uint32_t tri, const Vec3& pp, const Vec3& pt, double d) {
-    result.found = true;
-    result.distance = d;
-    result.point_a = q.to_world * pp;
-    result.point_b = q.to_world * pt;
-    result.triangle_a = q.part->bvh.prim_ids[slot];
-    result.triangle_b = tri;
-    result.slot_a = slot;
-    result.slot_b = tri;
+    finish_answer(q, slot, tri, pp, pt, d, result);
   };
   if (!request.known_disjoint) {
     // Intersection first, as the mesh path does: distance bounds cannot cull
@@ -687,11 +707,7 @@ void distance(const CollisionModel& a, const Affine& ta, const Heightfield& terr
     result.node_pairs_visited += c.node_pairs_visited;
     result.triangle_pairs_tested += c.triangle_pairs_tested;
     if (hit.found) {
-      double p[9], t[9];
-      if (triangle_pair(q, hit.slot, hit.tri, p, t)) {
-        const TriDistance d = q.common_point(p, t);
-        finish(hit.slot, hit.tri, d.point_p, d.point_q, 0.0);
-      }
+      contact_answer(q, hit, result);
       return;
     }
   }

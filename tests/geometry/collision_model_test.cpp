@@ -74,6 +74,37 @@ void check_pose(const Mesh& ma, const CollisionModel& a, const Affine& ta, const
   collide(a, ta, b, tb, CollideRequest{0}, first);
   ASSERT_EQ(first.collide, all.collide);
   ASSERT_EQ(first.triangle_pairs.size(), first.collide ? 1u : 0u);
+  // The contact answer a collision test can return equals what distance()
+  // reports for the same pose, bit for bit, at every listing limit; a
+  // pose that does not touch leaves it as it was.
+  DistanceResult plain;
+  distance(a, ta, b, tb, DistanceRequest{}, plain);
+  for (std::size_t limit : {std::size_t{0}, std::size_t{3}, std::size_t{1} << 30}) {
+    DistanceResult contact;
+    contact.distance = -1.0;
+    CollideResult c;
+    CollideRequest request{limit};
+    request.contact = &contact;
+    collide(a, ta, b, tb, request, c);
+    ASSERT_EQ(c.collide, all.collide);
+    if (!c.collide) {
+      ASSERT_EQ(contact.distance, -1.0);
+      continue;
+    }
+    ASSERT_TRUE(contact.found);
+    ASSERT_EQ(contact.distance, 0.0);
+    ASSERT_EQ(contact.distance, plain.distance);
+    ASSERT_EQ(contact.triangle_a, plain.triangle_a);
+    ASSERT_EQ(contact.triangle_b, plain.triangle_b);
+    ASSERT_EQ(contact.slot_a, plain.slot_a);
+    ASSERT_EQ(contact.slot_b, plain.slot_b);
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_EQ(contact.point_a[k], plain.point_a[k]);
+      ASSERT_EQ(contact.point_b[k], plain.point_b[k]);
+    }
+    // The first pair listed is the one whose point is reported.
+    ASSERT_EQ(c.triangle_pairs.front(), std::make_pair(contact.triangle_a, contact.triangle_b));
+  }
   CollideResult some;
   collide(a, ta, b, tb, CollideRequest{3}, some);
   ASSERT_EQ(some.triangle_pairs.size(), std::min<std::size_t>(3, expected.size()));

@@ -122,6 +122,16 @@ void check_pair(const Side& a, const Side& b, Totals& totals) {
   LeafPairBounds lb_ref;
   scalar->touch_masks(in, touch_ref);
   scalar->lower_bounds(in, 1e30f, lb_ref);
+  // The row and column pre-pass changes no bit, at any width.
+  for (int k = 0; k < kIsaCount; ++k) {
+    const LeafKernels* isa = leaf_kernels_for(static_cast<Isa>(k));
+    if (isa == nullptr) continue;
+    std::uint32_t fast[kLeafLanes], all[kLeafLanes];
+    isa->touch_masks(in, fast);
+    isa->touch_masks_all(in, all);
+    for (std::size_t i = 0; i < a.own.size(); ++i)
+      ASSERT_EQ(fast[i], all[i]) << isa->name << " pre-pass changed row " << i;
+  }
   const std::size_t na = a.own.size(), nb = b.own.size();
   double big = 0.0;
   for (const auto* side : {&a.working, &b.working})

@@ -71,6 +71,30 @@ void expect_same(const CollisionModel& part, const Mesh& part_mesh, const Affine
   distance(part, pose, mesh_model, id, DistanceRequest{}, db);
   ASSERT_EQ(da.found, db.found);
   EXPECT_EQ(da.distance, db.distance);
+  {
+    // A collision test's contact answer is distance()'s, bit for bit.
+    DistanceResult contact;
+    contact.distance = -1.0;
+    CollideResult c;
+    CollideRequest request{0};
+    request.contact = &contact;
+    collide(part, pose, hf, request, c);
+    EXPECT_EQ(c.collide, b.collide);
+    if (!c.collide) {
+      EXPECT_EQ(contact.distance, -1.0);
+    } else {
+      EXPECT_EQ(contact.found, da.found);
+      EXPECT_EQ(contact.distance, da.distance);
+      EXPECT_EQ(contact.triangle_a, da.triangle_a);
+      EXPECT_EQ(contact.triangle_b, da.triangle_b);
+      EXPECT_EQ(contact.slot_a, da.slot_a);
+      EXPECT_EQ(contact.slot_b, da.slot_b);
+      for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(contact.point_a[k], da.point_a[k]);
+        EXPECT_EQ(contact.point_b[k], da.point_b[k]);
+      }
+    }
+  }
   if (da.found && da.distance > 0.0) {
     // The reported points are on the reported triangles and that far apart.
     EXPECT_NEAR((da.point_a - da.point_b).norm(), da.distance, 1e-12);
