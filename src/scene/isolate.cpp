@@ -41,6 +41,8 @@ constexpr bool kSanitized = false;
 constexpr bool kSanitized = false;
 #endif
 
+bool g_in_child = false;  // set once in the child, right after the fork
+
 constexpr char kResult = 'R', kInputError = 'I', kOtherError = 'X';
 
 bool write_all(int fd, const char* data, std::size_t size) {
@@ -79,6 +81,7 @@ void limit_address_space(std::size_t budget) {
 }
 
 [[noreturn]] void child_main(int fd, const std::function<std::string()>& work, const IsolationLimits& limits) {
+  g_in_child = true;
   // A crash must end the child quietly with its signal, not run the
   // parent's handlers (libFuzzer's, the sanitizers').
   for (int s : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGTRAP, SIGSYS}) std::signal(s, SIG_DFL);
@@ -127,6 +130,8 @@ std::string last_line(const std::string& text) {
 }
 
 }  // namespace
+
+bool in_isolated_child() { return g_in_child; }
 
 std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits) {
   if (!limits.isolate) return work();

@@ -37,4 +37,8 @@ class IsolationError : public std::runtime_error {
 // cannot fork, `work` runs in this process.
 std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits = {});
 
+// True in the child process run_isolated forked (which ends with _exit:
+// what it allocates need not be freed).
+bool in_isolated_child();
+
 }  // namespace plancheck

@@ -49,6 +49,7 @@
 #include "src/scene/model_loader.h"
 
 #include "src/base/error.h"
+#include "src/scene/affine_fit.h"
 #include "src/scene/assimp_import.h"
 #include "src/scene/isolate.h"
 #include "src/scene/tds_reader.h"
@@ -57,7 +58,6 @@
 #include <assimp/scene.h>
 
 #include <Eigen/Core>
-#include <Eigen/QR>
 
 #include <algorithm>
 #include <cctype>
@@ -233,18 +233,19 @@ class Builder {
       }
     }
     if (ok) {
-      // Least squares: assimp_vertex = A * [drawn; 1].
-      Eigen::MatrixXd x(mesh.mNumVertices, 4), y(mesh.mNumVertices, 3);
+      // One affine map must take the drawn points to assimp's vertices
+      // (least squares from 3x3 moments: an n x 4 QR here asked for some 130
+      // bytes per vertex, on a big model mostly page faults).
+      std::vector<Vec3> y(mesh.mNumVertices);
+      Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
       for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-        ok = ok && drawn[v].allFinite();
-        x.row(v) << drawn[v].transpose(), 1.0;
-        y.row(v) << mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z;
+        y[v] = Vec3(mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z);
+        lo = lo.cwiseMin(y[v]);
+        hi = hi.cwiseMax(y[v]);
       }
-      if (ok) {
-        const Eigen::MatrixXd a = x.colPivHouseholderQr().solve(y);
-        const double size = std::max(1.0, (y.colwise().maxCoeff() - y.colwise().minCoeff()).norm());
-        ok = a.allFinite() && ((x * a - y).rowwise().norm().maxCoeff() <= 1e-4 * size);
-      }
+      const double size = std::max(1.0, (hi - lo).norm());
+      const double residual = affine_fit_residual(drawn, y);
+      ok = std::isfinite(residual) && residual <= 1e-4 * size;
     }
     if (!ok)
       scene_.warnings.push_back(located(file_, "3ds object '" + object.name +
