@@ -315,7 +315,7 @@ class Checker {
   // Replaces meshes[i] of static parts by their reachable triangles (held in
   // storage), fills kept_; returns how many triangles were left out.
   std::size_t prune_static(const Scene& scene, std::vector<const Mesh*>& meshes,
-                           std::vector<Mesh>& storage);
+                           std::vector<Mesh>& storage, int threads);
   const Scene& scene_;
   std::vector<std::string> names_;
   std::vector<CollisionModel> models_;  // one per scene part (the terrain is terrain_)
