@@ -3,6 +3,7 @@
 // queries (part vs part, part vs terrain). Plans are run and judged in
 // plan_check.cpp; reports are written in src/output/.
 #include "src/checks/verify.h"
+#include "src/checks/built_ahead.h"
 
 #include "src/base/progress.h"
 
@@ -64,7 +65,7 @@ inline double box_gap2(const Box& a, const Box& b) {
 
 }  // namespace
 
-Checker::Checker(const Scene& scene, int threads) : scene_(scene), motion_(scene) {
+Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : scene_(scene), motion_(scene) {
   std::vector<const Mesh*> meshes;
   for (const Part& p : scene.parts) {
     names_.push_back(p.name);
@@ -123,6 +124,8 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene), motion_(scene
     for (std::size_t i = begin; i < end; ++i) {
       if (i < first_model)
         probes_ = std::make_unique<const ProbeCaster>(scene);
+      else if (auto data = ahead != nullptr ? ahead->find(*meshes[i - first_model]) : nullptr)
+        built[i - first_model].emplace(std::move(data));  // built from this very mesh (BuiltAhead)
       else
         built[i - first_model].emplace(*meshes[i - first_model]);
     }

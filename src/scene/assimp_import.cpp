@@ -267,7 +267,8 @@ void unpack(std::string_view bytes, const std::filesystem::path& file, Scene& sc
 }  // namespace
 
 void import_isolated(const std::filesystem::path& model, const IsolationLimits& limits,
-                     const PartTreeBuilder& build, Scene& scene) {
+                     const PartTreeBuilder& build, Scene& scene,
+                     const std::function<void(const std::atomic<bool>& stop)>& meanwhile) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(model, ec)) fail(model, "cannot open model file (missing or not a file)");
   {
@@ -286,7 +287,7 @@ void import_isolated(const std::filesystem::path& model, const IsolationLimits& 
           import_model(model, build, imported);
           return pack(imported);
         },
-        limits);
+        limits, meanwhile);
   } catch (const IsolationError& e) {
     fail(model, std::string("cannot read model: the importer ") + e.what());
   } catch (const InputError&) {

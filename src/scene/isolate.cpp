@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <new>
+#include <thread>
 
 // Present only in sanitizer builds (weak: null otherwise). libFuzzer and the
 // sanitizers register a death callback that writes a crash artifact and
@@ -133,7 +134,8 @@ std::string last_line(const std::string& text) {
 
 bool in_isolated_child() { return g_in_child; }
 
-std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits) {
+std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits,
+                         const std::function<void(const std::atomic<bool>& stop)>& meanwhile) {
   if (!limits.isolate) return work();
   int out_fds[2], err_fds[2];
   if (::pipe2(out_fds, O_CLOEXEC) != 0) return work();
@@ -156,6 +158,28 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolati
   }
   ::close(out_fds[1]);
   ::close(err_fds[1]);
+
+  // The caller's work while the child runs (this thread only waits): on a
+  // thread of its own, started after the fork (the child inherits no
+  // running thread), joined on every way out; what it throws is dropped.
+  std::atomic<bool> stop{false};
+  std::thread side;
+  if (meanwhile) {
+    side = std::thread([&] {
+      try {
+        meanwhile(stop);
+      } catch (...) {
+      }
+    });
+  }
+  struct Joiner {
+    std::atomic<bool>& stop;
+    std::thread& side;
+    ~Joiner() {
+      stop = true;
+      if (side.joinable()) side.join();
+    }
+  } joiner{stop, side};
 
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -193,6 +217,7 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolati
     }
     if (read_failed) break;
   }
+  stop = true;  // the child has answered (or failed): `meanwhile` has had its time
   for (const pollfd& p : fds)
     if (p.fd >= 0) ::close(p.fd);
   if (timed_out || read_failed) ::kill(pid, SIGKILL);

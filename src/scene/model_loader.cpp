@@ -60,6 +60,8 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <atomic>
+#include <functional>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -378,18 +380,33 @@ class Builder {
 // load_model's and load_mesh's import: the part tree built in assimp's child
 // process, checked on its way back.
 void import_checked(const std::filesystem::path& model, double length_scale, Scene& scene,
-                    const IsolationLimits& limits, bool unique_names) {
+                    const IsolationLimits& limits, bool unique_names,
+                    const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {}) {
   import_isolated(
       model, limits,
       [&](const aiScene& ai, Scene& imported) { Builder(ai, model, length_scale, imported, unique_names).build(); },
-      scene);
+      scene, meanwhile);
 }
 
 }  // namespace
 
 void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
-                const IsolationLimits& limits) {
-  import_checked(model, length_scale, scene, limits, true);
+                const IsolationLimits& limits, const std::function<void(const std::atomic<bool>& stop)>& meanwhile) {
+  import_checked(model, length_scale, scene, limits, true, meanwhile);
+}
+
+std::vector<Mesh> drawn_object_meshes(const std::filesystem::path& model, double length_scale) {
+  std::vector<Mesh> meshes;
+  if (!is_3ds(model)) return meshes;
+  for (const TdsObject& object : read_tds_objects(model)) {
+    Mesh mesh;
+    mesh.vertices.reserve(object.points.size());
+    for (const Vec3& point : object.points) mesh.vertices.push_back(point * length_scale);
+    mesh.triangles.reserve(object.faces.size());
+    for (const auto& f : object.faces) mesh.triangles.push_back({f[0], f[1], f[2]});
+    meshes.push_back(std::move(mesh));
+  }
+  return meshes;
 }
 
 Mesh load_mesh(const std::filesystem::path& model, std::vector<std::string>& warnings,
