@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <limits>
 
@@ -42,10 +43,12 @@ double affine_fit_residual(const std::vector<Vec3>& x, const std::vector<Vec3>& 
     if (lambda[k] > 1e-12 * largest) inverse[k] = 1.0 / lambda[k];
   const Eigen::Matrix3d c = eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose() * b;
   if (!c.allFinite()) return infinity;
-  double worst = 0.0;
-  for (std::size_t i = 0; i < n; ++i)
-    worst = std::max(worst, (mean_y + c.transpose() * (x[i] - mean_x) - y[i]).norm());
-  return worst;
+  // The largest squared residual, one square root at the end (the root is
+  // monotone: the same maximum).
+  const Eigen::Matrix3d ct = c.transpose();
+  double worst2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) worst2 = std::max(worst2, (mean_y + ct * (x[i] - mean_x) - y[i]).squaredNorm());
+  return std::sqrt(worst2);
 }
 
 }  // namespace plancheck
