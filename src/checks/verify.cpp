@@ -3,6 +3,7 @@
 // queries (part vs part, part vs terrain). Plans are run and judged in
 // plan_check.cpp; reports are written in src/output/.
 #include "src/checks/verify.h"
+#include "src/checks/built_ahead.h"
 
 #include "src/base/progress.h"
 
@@ -64,7 +65,7 @@ inline double box_gap2(const Box& a, const Box& b) {
 
 }  // namespace
 
-Checker::Checker(const Scene& scene, int threads) : scene_(scene), motion_(scene) {
+Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : scene_(scene), motion_(scene) {
   std::vector<const Mesh*> meshes;
   for (const Part& p : scene.parts) {
     names_.push_back(p.name);
@@ -109,13 +110,25 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene), motion_(scene
   // Leave out static triangles no moving part can reach (kept_ maps back).
   std::vector<Mesh> pruned;
   kept_.resize(meshes.size());
-  left_out_ = prune_static(scene, meshes, pruned);
+  left_out_ = prune_static(scene, meshes, pruned, threads);
 
   // Build the per-part structures in parallel: parts are independent.
   if (terrain) meshes.pop_back();  // the heightfield above is the terrain's structure
+  // The probes' ray scene (Embree's BVH over the static parts, from the
+  // scene alone) is one more job beside them, the first one taken: it is
+  // the longest, and within the same thread budget (its own parallel
+  // building runs in the same pool).
   std::vector<std::optional<CollisionModel>> built(meshes.size());
-  parallel_for(meshes.size(), threads, 1, [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t i = begin; i < end; ++i) built[i].emplace(*meshes[i]);
+  const std::size_t first_model = scene.probes.empty() ? 0 : 1;
+  parallel_for(first_model + meshes.size(), threads, 1, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      if (i < first_model)
+        probes_ = std::make_unique<const ProbeCaster>(scene);
+      else if (auto data = ahead != nullptr ? ahead->find(*meshes[i - first_model]) : nullptr)
+        built[i - first_model].emplace(std::move(data));  // built from this very mesh (BuiltAhead)
+      else
+        built[i - first_model].emplace(*meshes[i - first_model]);
+    }
   });
   for (auto& m : built) models_.push_back(std::move(*m));
   for (PairRef& p : pairs_)
@@ -148,7 +161,6 @@ Checker::Checker(const Scene& scene, int threads) : scene_(scene), motion_(scene
     static_boxes_.emplace_back(w.lo, w.hi);
   }
   if (scene.scoop && scene.terrain) digger_ = std::make_unique<const Digger>(scene);
-  if (!scene.probes.empty()) probes_ = std::make_unique<const ProbeCaster>(scene);
 }
 
 namespace {
@@ -198,7 +210,7 @@ Reach part_reach(const Scene& scene, const std::vector<int>& chain, const Mesh& 
 // holds the minimum, which is at most U. So verdicts, distances and contacts
 // are unchanged. Distances are taken with a relative slack for rounding.
 std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& meshes,
-                                  std::vector<Mesh>& storage) {
+                                  std::vector<Mesh>& storage, int threads) {
   const std::size_t n = meshes.size();
   storage.resize(n);  // before any pointer into it is taken
   std::vector<std::vector<int>> partners(n);
@@ -206,59 +218,80 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
     if (chain_of_[static_cast<std::size_t>(p.b)] < 0) partners[static_cast<std::size_t>(p.b)].push_back(p.a);
     if (chain_of_[static_cast<std::size_t>(p.a)] < 0) partners[static_cast<std::size_t>(p.a)].push_back(p.b);
   }
+  // The passes below are independent per part (the reaches per moving
+  // partner, the nearest vertices and the kept triangles per static part),
+  // so they run in parallel; the upper bound is a minimum, exact in any order.
   std::vector<Reach> reach(n);
-  double upper = std::numeric_limits<double>::infinity();
-  for (std::size_t s = 0; s < n; ++s) {
-    if (chain_of_[s] >= 0) continue;
-    for (int m : partners[s]) {
-      auto& rm = reach[static_cast<std::size_t>(m)];
-      if (!rm.bounded) {
-        const std::size_t mi = static_cast<std::size_t>(m);
-        rm = part_reach(scene, scene.parts[mi].chain, *meshes[mi]);
-        if (!rm.bounded) return 0;  // a partner without a reach bound: keep everything
-      }
-      // (An empty mesh, the dug terrain, gives infinity: no bound from it.)
-      double nearest = std::numeric_limits<double>::infinity();
-      for (const Tri& t : meshes[s]->triangles)
-        for (std::uint32_t v : t) nearest = std::min(nearest, (meshes[s]->vertices[v] - rm.centre).norm());
-      upper = std::min(upper, rm.r_min + nearest);
+  std::vector<char> is_partner(n, 0);
+  for (std::size_t s = 0; s < n; ++s)
+    if (chain_of_[s] < 0)
+      for (int m : partners[s]) is_partner[static_cast<std::size_t>(m)] = 1;
+  std::vector<std::size_t> movers;
+  for (std::size_t m = 0; m < n; ++m)
+    if (is_partner[m]) movers.push_back(m);
+  parallel_for(movers.size(), threads, 1, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::size_t m = movers[i];
+      reach[m] = part_reach(scene, scene.parts[m].chain, *meshes[m]);
     }
-  }
+  });
+  for (std::size_t m : movers)
+    if (!reach[m].bounded) return 0;  // a partner without a reach bound: keep everything
+  std::vector<double> part_upper(n, std::numeric_limits<double>::infinity());
+  parallel_for(n, threads, 1, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t s = begin; s < end; ++s) {
+      if (chain_of_[s] >= 0) continue;
+      for (int m : partners[s]) {
+        const Reach& rm = reach[static_cast<std::size_t>(m)];
+        // (An empty mesh, the dug terrain, gives infinity: no bound from it.)
+        double nearest = std::numeric_limits<double>::infinity();
+        for (const Tri& t : meshes[s]->triangles)
+          for (std::uint32_t v : t) nearest = std::min(nearest, (meshes[s]->vertices[v] - rm.centre).norm());
+        part_upper[s] = std::min(part_upper[s], rm.r_min + nearest);
+      }
+    }
+  });
+  double upper = std::numeric_limits<double>::infinity();
+  for (double u : part_upper) upper = std::min(upper, u);
   // Without any static pair the minimum has no bound here; static parts in
   // no pair are still left out below (nothing ever queries them).
   const double limit = upper * (1.0 + 1e-9) + 1e-9;
-  std::size_t dropped = 0;
-  for (std::size_t s = 0; s < n; ++s) {
-    if (chain_of_[s] >= 0 || static_cast<int>(s) == terrain_index_) continue;  // the heightfield culls itself
-    const Mesh& mesh = *meshes[s];
-    std::vector<std::uint32_t> keep;
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-      const Tri& tri = mesh.triangles[t];
-      // Ball around the triangle: centroid c, radius rho; every point of T is
-      // within rho of c, so dist(T, p) >= |c - p| - rho.
-      const Vec3 c = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0;
-      double rho = 0.0;
-      for (std::uint32_t v : tri) rho = std::max(rho, (mesh.vertices[v] - c).norm());
-      bool needed = false;
-      for (int m : partners[s]) {
-        const Reach& rm = reach[static_cast<std::size_t>(m)];
-        const double gap = (c - rm.centre).norm() - rho - rm.r_max;
-        if (!(gap * (1.0 - 1e-9) > limit)) {
-          needed = true;
-          break;
+  std::vector<std::size_t> dropped_of(n, 0);
+  parallel_for(n, threads, 1, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t s = begin; s < end; ++s) {
+      if (chain_of_[s] >= 0 || static_cast<int>(s) == terrain_index_) continue;  // the heightfield culls itself
+      const Mesh& mesh = *meshes[s];
+      std::vector<std::uint32_t> keep;
+      for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const Tri& tri = mesh.triangles[t];
+        // Ball around the triangle: centroid c, radius rho; every point of T is
+        // within rho of c, so dist(T, p) >= |c - p| - rho.
+        const Vec3 c = (mesh.vertices[tri[0]] + mesh.vertices[tri[1]] + mesh.vertices[tri[2]]) / 3.0;
+        double rho = 0.0;
+        for (std::uint32_t v : tri) rho = std::max(rho, (mesh.vertices[v] - c).norm());
+        bool needed = false;
+        for (int m : partners[s]) {
+          const Reach& rm = reach[static_cast<std::size_t>(m)];
+          const double gap = (c - rm.centre).norm() - rho - rm.r_max;
+          if (!(gap * (1.0 - 1e-9) > limit)) {
+            needed = true;
+            break;
+          }
         }
+        if (needed) keep.push_back(static_cast<std::uint32_t>(t));
       }
-      if (needed) keep.push_back(static_cast<std::uint32_t>(t));
+      if (keep.size() == mesh.triangles.size()) continue;
+      dropped_of[s] = mesh.triangles.size() - keep.size();
+      Mesh& out = storage[s];
+      out.vertices = mesh.vertices;
+      out.triangles.reserve(keep.size());
+      for (std::uint32_t t : keep) out.triangles.push_back(mesh.triangles[t]);
+      kept_[s] = std::move(keep);
+      meshes[s] = &out;
     }
-    if (keep.size() == mesh.triangles.size()) continue;
-    dropped += mesh.triangles.size() - keep.size();
-    Mesh& out = storage[s];
-    out.vertices = mesh.vertices;
-    out.triangles.reserve(keep.size());
-    for (std::uint32_t t : keep) out.triangles.push_back(mesh.triangles[t]);
-    kept_[s] = std::move(keep);
-    meshes[s] = &out;
-  }
+  });
+  std::size_t dropped = 0;
+  for (std::size_t d : dropped_of) dropped += d;
   return dropped;
 }
 

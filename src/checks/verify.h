@@ -23,6 +23,8 @@
 
 namespace plancheck {
 
+class BuiltAhead;  // src/checks/built_ahead.h
+
 // Relative error of the double distance routines (closest points of two
 // triangles in a relative frame) is a few ulps of the coordinates; a margin
 // comparison closer than this (metres) is treated as a violation.
@@ -205,7 +207,9 @@ struct PosedParts {
 // Collision structures of a scene, built once; immutable and shared by threads.
 class Checker {
  public:
-  explicit Checker(const Scene& scene, int threads = 0);
+  // `ahead`: structures built while the model was imported (built_ahead.h),
+  // taken for the parts whose meshes they were built from; may be null.
+  explicit Checker(const Scene& scene, int threads = 0, const BuiltAhead* ahead = nullptr);
 
   // Names of the checked parts: Scene::parts, then "terrain" when present.
   const std::string& part_name(int index) const { return names_[static_cast<std::size_t>(index)]; }
@@ -315,7 +319,7 @@ class Checker {
   // Replaces meshes[i] of static parts by their reachable triangles (held in
   // storage), fills kept_; returns how many triangles were left out.
   std::size_t prune_static(const Scene& scene, std::vector<const Mesh*>& meshes,
-                           std::vector<Mesh>& storage);
+                           std::vector<Mesh>& storage, int threads);
   const Scene& scene_;
   std::vector<std::string> names_;
   std::vector<CollisionModel> models_;  // one per scene part (the terrain is terrain_)

@@ -39,7 +39,8 @@
 namespace plancheck {
 
 CollisionModel::CollisionModel(const Mesh& mesh)
-    : data_(std::make_unique<CollisionModelData>(build_collision_data(mesh))) {}
+    : data_(std::make_shared<const CollisionModelData>(build_collision_data(mesh))) {}
+CollisionModel::CollisionModel(std::shared_ptr<const CollisionModelData> data) : data_(std::move(data)) {}
 CollisionModel::~CollisionModel() = default;
 CollisionModel::CollisionModel(CollisionModel&&) noexcept = default;
 CollisionModel& CollisionModel::operator=(CollisionModel&&) noexcept = default;

@@ -21,6 +21,8 @@ struct CollisionModelData;  // BVH and triangles; defined in bvh.h
 class CollisionModel {
  public:
   explicit CollisionModel(const Mesh& mesh);  // builds the BVH (reference frame)
+  // Takes a structure build_collision_data made (shared, never changed).
+  explicit CollisionModel(std::shared_ptr<const CollisionModelData> data);
   ~CollisionModel();
   CollisionModel(CollisionModel&&) noexcept;
   CollisionModel& operator=(CollisionModel&&) noexcept;
@@ -30,7 +32,7 @@ class CollisionModel {
   const CollisionModelData& data() const { return *data_; }
 
  private:
-  std::unique_ptr<CollisionModelData> data_;
+  std::shared_ptr<const CollisionModelData> data_;
 };
 
 struct DistanceResult;

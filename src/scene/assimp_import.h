@@ -23,7 +23,9 @@ using PartTreeBuilder = std::function<void(const aiScene& ai, Scene& scene)>;
 // then what the child hands back checked and moved into `scene` (its nodes
 // and parts replaced, its warnings appended). Every failure, a crash or hang
 // of the importer included, is an InputError naming `model`.
+// `meanwhile` runs in this process while the child imports (run_isolated).
 void import_isolated(const std::filesystem::path& model, const IsolationLimits& limits,
-                     const PartTreeBuilder& build, Scene& scene);
+                     const PartTreeBuilder& build, Scene& scene,
+                     const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {});
 
 }  // namespace plancheck

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <new>
+#include <thread>
 
 // Present only in sanitizer builds (weak: null otherwise). libFuzzer and the
 // sanitizers register a death callback that writes a crash artifact and
@@ -40,6 +41,8 @@ constexpr bool kSanitized = false;
 #else
 constexpr bool kSanitized = false;
 #endif
+
+bool g_in_child = false;  // set once in the child, right after the fork
 
 constexpr char kResult = 'R', kInputError = 'I', kOtherError = 'X';
 
@@ -79,6 +82,7 @@ void limit_address_space(std::size_t budget) {
 }
 
 [[noreturn]] void child_main(int fd, const std::function<std::string()>& work, const IsolationLimits& limits) {
+  g_in_child = true;
   // A crash must end the child quietly with its signal, not run the
   // parent's handlers (libFuzzer's, the sanitizers').
   for (int s : {SIGSEGV, SIGBUS, SIGABRT, SIGFPE, SIGILL, SIGTRAP, SIGSYS}) std::signal(s, SIG_DFL);
@@ -128,7 +132,10 @@ std::string last_line(const std::string& text) {
 
 }  // namespace
 
-std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits) {
+bool in_isolated_child() { return g_in_child; }
+
+std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits,
+                         const std::function<void(const std::atomic<bool>& stop)>& meanwhile) {
   if (!limits.isolate) return work();
   int out_fds[2], err_fds[2];
   if (::pipe2(out_fds, O_CLOEXEC) != 0) return work();
@@ -151,6 +158,28 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolati
   }
   ::close(out_fds[1]);
   ::close(err_fds[1]);
+
+  // The caller's work while the child runs (this thread only waits): on a
+  // thread of its own, started after the fork (the child inherits no
+  // running thread), joined on every way out; what it throws is dropped.
+  std::atomic<bool> stop{false};
+  std::thread side;
+  if (meanwhile) {
+    side = std::thread([&] {
+      try {
+        meanwhile(stop);
+      } catch (...) {
+      }
+    });
+  }
+  struct Joiner {
+    std::atomic<bool>& stop;
+    std::thread& side;
+    ~Joiner() {
+      stop = true;
+      if (side.joinable()) side.join();
+    }
+  } joiner{stop, side};
 
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -188,6 +217,7 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolati
     }
     if (read_failed) break;
   }
+  stop = true;  // the child has answered (or failed): `meanwhile` has had its time
   for (const pollfd& p : fds)
     if (p.fd >= 0) ::close(p.fd);
   if (timed_out || read_failed) ::kill(pid, SIGKILL);

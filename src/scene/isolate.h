@@ -10,6 +10,7 @@
 // IsolationError in the parent.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <stdexcept>
@@ -35,6 +36,19 @@ class IsolationError : public std::runtime_error {
 // thrown by `work` is rethrown here as an InputError with the same message;
 // any other exception as std::runtime_error with its what(). If the process
 // cannot fork, `work` runs in this process.
-std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits = {});
+//
+// `meanwhile`, if given, runs in this process on a thread of its own while
+// the child works (started after the fork, joined before run_isolated
+// returns or throws); its argument turns true once the child has answered,
+// and it should stop soon after (the caller waits for it). It is for work
+// worth having but not needed: what it throws is dropped, and it does not
+// run at all when `work` runs in this process (limits.isolate false, no
+// fork). The caller counts its thread in its own thread budget.
+std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits = {},
+                         const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {});
+
+// True in the child process run_isolated forked (which ends with _exit:
+// what it allocates need not be freed).
+bool in_isolated_child();
 
 }  // namespace plancheck

@@ -49,6 +49,7 @@
 #include "src/scene/model_loader.h"
 
 #include "src/base/error.h"
+#include "src/scene/affine_fit.h"
 #include "src/scene/assimp_import.h"
 #include "src/scene/isolate.h"
 #include "src/scene/tds_reader.h"
@@ -57,9 +58,10 @@
 #include <assimp/scene.h>
 
 #include <Eigen/Core>
-#include <Eigen/QR>
 
 #include <algorithm>
+#include <atomic>
+#include <functional>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -233,18 +235,19 @@ class Builder {
       }
     }
     if (ok) {
-      // Least squares: assimp_vertex = A * [drawn; 1].
-      Eigen::MatrixXd x(mesh.mNumVertices, 4), y(mesh.mNumVertices, 3);
+      // One affine map must take the drawn points to assimp's vertices
+      // (least squares from 3x3 moments: an n x 4 QR here asked for some 130
+      // bytes per vertex, on a big model mostly page faults).
+      std::vector<Vec3> y(mesh.mNumVertices);
+      Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
       for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-        ok = ok && drawn[v].allFinite();
-        x.row(v) << drawn[v].transpose(), 1.0;
-        y.row(v) << mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z;
+        y[v] = Vec3(mesh.mVertices[v].x, mesh.mVertices[v].y, mesh.mVertices[v].z);
+        lo = lo.cwiseMin(y[v]);
+        hi = hi.cwiseMax(y[v]);
       }
-      if (ok) {
-        const Eigen::MatrixXd a = x.colPivHouseholderQr().solve(y);
-        const double size = std::max(1.0, (y.colwise().maxCoeff() - y.colwise().minCoeff()).norm());
-        ok = a.allFinite() && ((x * a - y).rowwise().norm().maxCoeff() <= 1e-4 * size);
-      }
+      const double size = std::max(1.0, (hi - lo).norm());
+      const double residual = affine_fit_residual(drawn, y);
+      ok = std::isfinite(residual) && residual <= 1e-4 * size;
     }
     if (!ok)
       scene_.warnings.push_back(located(file_, "3ds object '" + object.name +
@@ -377,18 +380,33 @@ class Builder {
 // load_model's and load_mesh's import: the part tree built in assimp's child
 // process, checked on its way back.
 void import_checked(const std::filesystem::path& model, double length_scale, Scene& scene,
-                    const IsolationLimits& limits, bool unique_names) {
+                    const IsolationLimits& limits, bool unique_names,
+                    const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {}) {
   import_isolated(
       model, limits,
       [&](const aiScene& ai, Scene& imported) { Builder(ai, model, length_scale, imported, unique_names).build(); },
-      scene);
+      scene, meanwhile);
 }
 
 }  // namespace
 
 void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
-                const IsolationLimits& limits) {
-  import_checked(model, length_scale, scene, limits, true);
+                const IsolationLimits& limits, const std::function<void(const std::atomic<bool>& stop)>& meanwhile) {
+  import_checked(model, length_scale, scene, limits, true, meanwhile);
+}
+
+std::vector<Mesh> drawn_object_meshes(const std::filesystem::path& model, double length_scale) {
+  std::vector<Mesh> meshes;
+  if (!is_3ds(model)) return meshes;
+  for (const TdsObject& object : read_tds_objects(model)) {
+    Mesh mesh;
+    mesh.vertices.reserve(object.points.size());
+    for (const Vec3& point : object.points) mesh.vertices.push_back(point * length_scale);
+    mesh.triangles.reserve(object.faces.size());
+    for (const auto& f : object.faces) mesh.triangles.push_back({f[0], f[1], f[2]});
+    meshes.push_back(std::move(mesh));
+  }
+  return meshes;
 }
 
 Mesh load_mesh(const std::filesystem::path& model, std::vector<std::string>& warnings,

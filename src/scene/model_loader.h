@@ -5,7 +5,10 @@
 #include "src/scene/isolate.h"
 #include "src/scene/scene.h"
 
+#include <atomic>
 #include <filesystem>
+#include <functional>
+#include <vector>
 
 namespace plancheck {
 
@@ -17,8 +20,19 @@ namespace plancheck {
 // assimp runs in a child process under `limits` (src/scene/isolate.h): a crash, hang
 // or memory bomb in it becomes an InputError naming the file, and what the
 // child hands back is checked before it is used.
+// `meanwhile` runs in this process while the child imports (run_isolated):
+// for a caller with work to do ahead (and a core to do it on).
 void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
-                const IsolationLimits& limits = {});
+                const IsolationLimits& limits = {},
+                const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {});
+
+// The objects of a 3ds file as drawn, each as one mesh: its points times
+// `length_scale` in file order, its faces in file order (none for other
+// formats; an object's faces may name points it lacks: nothing here checks).
+// A part loaded from an object of one material has exactly this mesh, which
+// lets work on parts start before the import is done (load_model's
+// `meanwhile`); a user must compare meshes, as nothing else ties the two.
+std::vector<Mesh> drawn_object_meshes(const std::filesystem::path& model, double length_scale);
 
 // Every triangle of a model file as one mesh, node transforms applied (the
 // file's own frame, its unit included, no up-axis turn: what RViz shows for a

@@ -4,7 +4,9 @@
 
 #include "src/scene/scene.h"
 
+#include <atomic>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -16,6 +18,14 @@ namespace plancheck {
 struct SceneOptions {
   std::filesystem::path srdf;
   std::map<std::string, std::filesystem::path> packages;
+  // Not part of the scene: work a caller (a layer above) wants done while
+  // the scene's model file is imported in its child process, when this
+  // process would only wait. Called on a thread of its own with the model
+  // file and the scene's length scale; `stop` turns true once the import
+  // has answered, and the load waits for it to return. What it throws is
+  // dropped. It takes a core: set it only with a thread budget of 2 or more.
+  std::function<void(const std::filesystem::path& model, double length_scale, const std::atomic<bool>& stop)>
+      while_importing;
 };
 
 // Reads the scene file, the model it names, and resolves actions, checked

@@ -9,7 +9,6 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,14 +16,28 @@
 namespace plancheck {
 namespace {
 
+// The whole file in one read: a 3ds model runs to megabytes, and reading it
+// through istreambuf_iterator, a byte and a vector growth at a time, cost
+// more than walking its chunks. An unreadable file reads as empty (both
+// callers then find no chunks and leave the judgement to assimp).
+std::vector<unsigned char> read_bytes(const std::filesystem::path& file) {
+  std::vector<unsigned char> bytes;
+  std::ifstream in(file, std::ios::binary | std::ios::ate);
+  if (!in) return bytes;
+  const std::streamoff size = in.tellg();
+  if (size <= 0) return bytes;
+  bytes.resize(static_cast<std::size_t>(size));
+  in.seekg(0);
+  in.read(reinterpret_cast<char*>(bytes.data()), size);
+  bytes.resize(static_cast<std::size_t>(std::max<std::streamsize>(0, in.gcount())));
+  return bytes;
+}
+
 // read_tds_objects' chunk walk (see the header for what it reads and why it
 // stops quietly at damage).
 class TdsReader {
  public:
-  explicit TdsReader(const std::filesystem::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    b_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
+  explicit TdsReader(const std::filesystem::path& file) : b_(read_bytes(file)) {}
 
   std::vector<TdsObject> objects() {
     walk(0, b_.size(), nullptr);
@@ -71,13 +84,16 @@ class TdsReader {
         }
         case 0x4100: if (object) walk(body, stop, object); break;
         case 0x4110:
-          if (object && has(body, 2, stop) && has(body + 2, 12 * std::size_t{u16(body)}, stop))
+          if (object && has(body, 2, stop) && has(body + 2, 12 * std::size_t{u16(body)}, stop)) {
+            object->points.reserve(object->points.size() + u16(body));
             for (unsigned i = 0, n = u16(body); i < n; ++i)
               object->points.emplace_back(f32(body + 2 + 12 * i), f32(body + 6 + 12 * i), f32(body + 10 + 12 * i));
+          }
           break;
         case 0x4120:
           if (object && has(body, 2, stop) && has(body + 2, 8 * std::size_t{u16(body)}, stop)) {
             const unsigned n = u16(body);
+            object->faces.reserve(object->faces.size() + n);
             for (unsigned i = 0; i < n; ++i)
               object->faces.push_back({u16(body + 2 + 8 * i), u16(body + 4 + 8 * i), u16(body + 6 + 8 * i)});
             object->face_material.assign(n, std::string());
@@ -143,8 +159,7 @@ std::vector<TdsObject> read_tds_objects(const std::filesystem::path& file) { ret
 
 void check_3ds_tracks(const std::filesystem::path& file) {
   if (!is_3ds(file)) return;
-  std::ifstream in(file, std::ios::binary);
-  const std::vector<unsigned char> b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<unsigned char> b = read_bytes(file);
   check_tracks(b, 0, b.size(), file);
 }
 

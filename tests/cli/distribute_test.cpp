@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cstdint>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -214,6 +216,33 @@ TEST(ResultBlob, PlanResultsComeBackBitForBit) {
     std::vector<PlanResult> cut;
     EXPECT_THROW(read_plan_results(std::string_view(bytes).substr(0, n), plans, cut), std::runtime_error) << n;
   }
+}
+
+
+// A run's fingerprint is kept in partial results and journals, so its value
+// must not change with how it is computed: against FNV-1a written out here,
+// two 64-bit chains (the second seeded differently, its state xored with
+// 0x5bd1e995 before each item), each item prefixed by its length.
+TEST(Fingerprint, ValuesAreTwoLengthPrefixedFnvChains) {
+  auto fnv = [](std::uint64_t h, const unsigned char* p, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
+    return h;
+  };
+  std::uint64_t a = 0xcbf29ce484222325ull, b = 0x84222325cbf29ce4ull;
+  Fingerprint fp;
+  std::string big(100003, '\0');
+  for (std::size_t i = 0; i < big.size(); ++i) big[i] = static_cast<char>((i * 2654435761u) >> 13);
+  for (const std::string& item : {std::string(), std::string("verify"), big, std::string("\xff\x00z", 3)}) {
+    fp.add(item);
+    const std::uint64_t n = item.size();
+    const auto* p = reinterpret_cast<const unsigned char*>(item.data());
+    a = fnv(fnv(a, reinterpret_cast<const unsigned char*>(&n), 8), p, item.size());
+    b = fnv(fnv(b ^ 0x5bd1e995ull, reinterpret_cast<const unsigned char*>(&n), 8), p, item.size());
+  }
+  char expected[33];
+  std::snprintf(expected, sizeof expected, "%016llx%016llx", static_cast<unsigned long long>(a),
+                static_cast<unsigned long long>(b));
+  EXPECT_EQ(fp.hex(), expected);
 }
 
 }  // namespace

@@ -8,11 +8,15 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace plancheck {
@@ -34,6 +38,43 @@ TEST(Isolate, ReturnsTheChildsBytesWhole) {
   for (std::size_t i = 0; i < expected.size(); ++i) expected[i] = static_cast<char>((i * 2654435761u) >> 13);
   EXPECT_EQ(run_isolated([&] { return expected; }), expected);
   EXPECT_EQ(run_isolated([] { return std::string(); }), "");
+}
+
+// `meanwhile` runs in the parent while the child works, sees `stop` turn
+// true once the child has answered, is joined before run_isolated returns, and
+// its exceptions are no failure; a child's failure is still reported.
+TEST(Isolate, MeanwhileRunsInTheParentWhileTheChildWorks) {
+  std::atomic<int> rounds{0};
+  bool saw_stop = false;
+  const std::string got = run_isolated(
+      [] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+        return std::string("done");
+      },
+      {}, [&](const std::atomic<bool>& stop) {
+        while (!stop) {
+          ++rounds;
+          std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+        saw_stop = true;
+      });
+  EXPECT_EQ(got, "done");
+  EXPECT_TRUE(saw_stop);  // joined: its writes are visible here
+  EXPECT_GT(rounds.load(), 5);  // it ran while the child slept
+  EXPECT_EQ(run_isolated([] { return std::string("x"); }, {},
+                         [](const std::atomic<bool>&) { throw std::runtime_error("dropped"); }),
+            "x");
+  bool ran = false;
+  EXPECT_THROW(run_isolated([]() -> std::string { throw InputError("bad input"); }, {},
+                            [&](const std::atomic<bool>&) { ran = true; }),
+               InputError);
+  EXPECT_TRUE(ran);
+  // In-process work: nothing runs beside it.
+  ran = false;
+  IsolationLimits inside;
+  inside.isolate = false;
+  EXPECT_EQ(run_isolated([] { return std::string("y"); }, inside, [&](const std::atomic<bool>&) { ran = true; }), "y");
+  EXPECT_FALSE(ran);
 }
 
 TEST(Isolate, TheChildCannotChangeTheParent) {

@@ -3,13 +3,17 @@
 // from reading the files independently (a 3ds chunk walker, OBJ/STL/PLY/glTF/
 // Collada counts), never from the loader's own output.
 #include "src/scene/model_loader.h"
+#include "src/checks/built_ahead.h"
+#include "src/geometry/bvh.h"
 
 #include "tests/foundation/fixtures.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
+#include <cstring>
 #include <cmath>
 #include <cstdlib>
 #include <future>
@@ -22,6 +26,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace plancheck {
@@ -753,6 +758,87 @@ TEST(ModelLoaderIsolation, AnImporterOverItsTimeIsAnInputErrorNamingTheFile) {
   Scene s;
   testing::expect_input_error([&] { load_model(kAssimpModels / "OBJ" / "box.obj", 1.0, s, limits); },
                               {"box.obj", "cannot read model: the importer did not finish within 0 s"});
+}
+
+
+// The drawn objects of a 3ds file, as meshes, are exactly the meshes of the
+// parts loaded from one-material objects; BuiltAhead's structure of one is
+// build_collision_data's of that part's mesh; an object split by material
+// (faces regrouped) matches no part, so nothing is taken for it.
+TEST(ModelLoader3ds, StructuresBuiltAheadMatchOnlyPartsThatAreTheirObject) {
+  testing::TempDir dir;
+  TdsWriter w;
+  w.material("Red");
+  w.material("Grey");
+  const std::vector<Vec3> quad = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0, 0, 3}};
+  w.object("Scoop", quad, {{0, 1, 2}, {0, 2, 3}, {0, 1, 4}}, {1, 0, 1});
+  w.object("Arm", {{5, 0, 0}, {6, 0, 0}, {5, 0, 2}, {5, 1, 2}}, {{0, 1, 2}, {1, 2, 3}}, {0, 0});
+  const auto file = dir / "split.3ds";
+  w.write(file);
+  Scene s;
+  load_model(file, 0.01, s);
+  const std::atomic<bool> go_on{false};
+  BuiltAhead ahead;
+  ahead.build(file, 0.01, go_on);
+  EXPECT_EQ(ahead.size(), 2u);
+  const Mesh& arm_mesh = s.parts[static_cast<std::size_t>(s.find_part("Arm"))].mesh;
+  const auto arm = ahead.find(arm_mesh);
+  ASSERT_NE(arm, nullptr);
+  const CollisionModelData fresh = build_collision_data(arm_mesh);
+  EXPECT_EQ(arm->bvh.prim_ids, fresh.bvh.prim_ids);
+  EXPECT_EQ(arm->vertices, fresh.vertices);
+  EXPECT_EQ(arm->corners, fresh.corners);
+  EXPECT_EQ(arm->soa, fresh.soa);
+  ASSERT_EQ(arm->bvh.nodes.size(), fresh.bvh.nodes.size());
+  EXPECT_EQ(std::memcmp(arm->bvh.nodes.data(), fresh.bvh.nodes.data(), fresh.bvh.nodes.size() * sizeof(BvhNode)), 0);
+  EXPECT_EQ(ahead.find(s.parts[static_cast<std::size_t>(s.find_part("Scoop"))].mesh), nullptr);
+  // A stop asked before the first object: nothing built.
+  const std::atomic<bool> stop_now{true};
+  BuiltAhead none;
+  none.build(file, 0.01, stop_now);
+  EXPECT_EQ(none.size(), 0u);
+  // Another format: nothing to build from.
+  BuiltAhead obj;
+  obj.build(kAssimpModels / "OBJ" / "box.obj", 1.0, go_on);
+  EXPECT_EQ(obj.size(), 0u);
+
+  // The real test models: wherever a part has one, it is its own mesh's.
+  for (const char* name : {"fels.3ds", "test1.3ds", "CameraRollAnimWithChildObject.3ds"}) {
+    SCOPED_TRACE(name);
+    Scene m;
+    load_model(kAssimpModels / "3DS" / name, 1.0, m);
+    BuiltAhead built;
+    built.build(kAssimpModels / "3DS" / name, 1.0, go_on);
+    ASSERT_GT(built.size(), 0u);
+    for (const Part& part : m.parts) {
+      const auto p = built.find(part.mesh);
+      if (p == nullptr) continue;
+      EXPECT_EQ(p->bvh.prim_ids, build_collision_data(part.mesh).bvh.prim_ids);
+    }
+  }
+}
+
+// load_model's `meanwhile` runs while the child imports and has returned
+// when load_model does; in-process imports run nothing beside.
+TEST(ModelLoader3ds, MeanwhileRunsBesideTheImportOnly) {
+  const auto file = kAssimpModels / "3DS" / "fels.3ds";
+  bool ran = false, stopped = false;
+  Scene s;
+  load_model(file, 1.0, s, {}, [&](const std::atomic<bool>& stop) {
+    ran = true;
+    while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    stopped = true;
+  });
+  EXPECT_TRUE(ran);
+  EXPECT_TRUE(stopped);
+  EXPECT_FALSE(s.parts.empty());
+  IsolationLimits inside;
+  inside.isolate = false;
+  ran = false;
+  Scene t;
+  load_model(file, 1.0, t, inside, [&](const std::atomic<bool>&) { ran = true; });
+  EXPECT_FALSE(ran);
+  EXPECT_EQ(t.parts.size(), s.parts.size());
 }
 
 }  // namespace

@@ -6,10 +6,12 @@
 #include "src/scene/plan.h"
 #include "src/scene/scene_loader.h"
 #include "src/checks/verify.h"
+#include "src/checks/built_ahead.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -91,6 +93,53 @@ int subtree_triangles(const Scene& scene, int node) {
   int t = n.part >= 0 ? static_cast<int>(scene.parts[static_cast<std::size_t>(n.part)].mesh.triangles.size()) : 0;
   for (int c : n.children) t += subtree_triangles(scene, c);
   return t;
+}
+
+// The collision structures built while the model loads (BuiltAhead, run to
+// the end here; how far it gets in a run depends on the import's time) are
+// the ones the checker builds itself: with them and without them, every
+// state of three plans gets the same answer, bit for bit, probes included.
+TEST(DatasetPlans, StructuresBuiltAheadChangeNoAnswer) {
+  ASSERT_TRUE(std::filesystem::exists(kDir / "scene.json")) << "run `make dataset` first";
+  const Scene scene = load_scene(kDir / "scene.json");
+  BuiltAhead ahead;
+  const std::atomic<bool> go_on{false};
+  ahead.build(scene.model_file, scene.length_scale, go_on);
+  // Every part of the default scene is one drawn object: each has one.
+  std::size_t matched = 0;
+  for (const Part& part : scene.parts) matched += ahead.find(part.mesh) != nullptr ? 1 : 0;
+  EXPECT_EQ(matched, scene.parts.size());
+  std::vector<Plan> plans;
+  for (const char* name : {"plan01.csv", "plan04.csv", "plan07.csv"})
+    plans.push_back(load_plan(scene, kDir / "plans" / name));
+  const Checker with(scene, 2, &ahead), without(scene, 2);
+  const auto a = verify_plans(with, scene, plans, VerifyOptions{});
+  const auto b = verify_plans(without, scene, plans, VerifyOptions{});
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t p = 0; p < a.size(); ++p) {
+    EXPECT_EQ(a[p].verdict, b[p].verdict);
+    EXPECT_EQ(a[p].min_distance, b[p].min_distance);
+    ASSERT_EQ(a[p].states.size(), b[p].states.size());
+    for (std::size_t s = 0; s < a[p].states.size(); ++s) {
+      const StateResult& x = a[p].states[s];
+      const StateResult& y = b[p].states[s];
+      ASSERT_EQ(x.collision, y.collision) << "state " << s;
+      ASSERT_EQ(x.min_distance, y.min_distance) << "state " << s;
+      ASSERT_EQ(x.part_a, y.part_a) << "state " << s;
+      ASSERT_EQ(x.part_b, y.part_b) << "state " << s;
+      ASSERT_EQ(x.point_a, y.point_a) << "state " << s;
+      ASSERT_EQ(x.contacts.size(), y.contacts.size()) << "state " << s;
+      for (std::size_t c = 0; c < x.contacts.size(); ++c) EXPECT_EQ(x.contacts[c].triangles, y.contacts[c].triangles);
+    }
+    ASSERT_EQ(a[p].probes.size(), b[p].probes.size());
+    for (std::size_t s = 0; s < a[p].probes.size(); ++s)
+      for (std::size_t q = 0; q < a[p].probes[s].size(); ++q) {
+        EXPECT_EQ(a[p].probes[s][q].distance, b[p].probes[s][q].distance);
+        EXPECT_EQ(a[p].probes[s][q].hit, b[p].probes[s][q].hit);
+      }
+  }
+  EXPECT_EQ(with.triangle_count(), without.triangle_count());
+  EXPECT_EQ(with.memory_bytes(), without.memory_bytes());
 }
 
 TEST(DatasetPlans, LoaderReadsTheFigure9HierarchyWithTable2Counts) {
