@@ -722,6 +722,26 @@ struct DistanceQuery {
 
 namespace {
 
+// A triangle pair found in the setup's frame (slots of its a and b, points
+// in a's frame) as the caller's answer: world points and triangle ids, with
+// a and b as the caller passed them.
+void report_pair(const Setup& s, std::uint32_t slot_a, std::uint32_t slot_b, const Vec3& local_a,
+                 const Vec3& local_b, double distance, DistanceResult& result) {
+  Vec3 pa = s.to_world * local_a, pb = s.to_world * local_b;
+  std::uint32_t ia = s.a.data->bvh.prim_ids[slot_a];
+  std::uint32_t ib = s.b.data->bvh.prim_ids[slot_b];
+  if (s.swapped) {
+    std::swap(ia, ib);
+    std::swap(pa, pb);
+  }
+  result.found = true;
+  result.distance = distance;
+  result.point_a = pa;
+  result.point_b = pb;
+  result.triangle_a = ia;
+  result.triangle_b = ib;
+}
+
 // distance()'s answer for a pose where collide_in found `hit`: a common
 // point of that triangle pair (intersecting, so tri_distance gives one).
 void contact_answer(const Setup& s, const FirstHit& hit, DistanceResult& result) {
@@ -729,19 +749,7 @@ void contact_answer(const Setup& s, const FirstHit& hit, DistanceResult& result)
   s.a.triangle(hit.slot_a, p);
   s.b.triangle(hit.slot_b, q);
   const TriDistance d = tri_distance(p, q);
-  Vec3 pa = s.to_world * d.point_p, pb = s.to_world * d.point_q;
-  std::uint32_t ia = s.a.data->bvh.prim_ids[hit.slot_a];
-  std::uint32_t ib = s.b.data->bvh.prim_ids[hit.slot_b];
-  if (s.swapped) {
-    std::swap(ia, ib);
-    std::swap(pa, pb);
-  }
-  result.found = true;
-  result.distance = 0.0;
-  result.point_a = pa;
-  result.point_b = pb;
-  result.triangle_a = ia;
-  result.triangle_b = ib;
+  report_pair(s, hit.slot_a, hit.slot_b, d.point_p, d.point_q, 0.0, result);
 }
 
 }  // namespace
@@ -802,19 +810,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   q.first_below = request.first_below;
   if (!(q.found && q.first_below)) distance_descent(q, t_stack, root);
   if (!q.found) return;
-  result.found = true;
-  result.distance = q.best;
-  Vec3 pa = s.to_world * q.best_pa, pb = s.to_world * q.best_pb;
-  std::uint32_t ia = s.a.data->bvh.prim_ids[q.best_sa];
-  std::uint32_t ib = s.b.data->bvh.prim_ids[q.best_sb];
-  if (s.swapped) {
-    std::swap(ia, ib);
-    std::swap(pa, pb);
-  }
-  result.point_a = pa;
-  result.point_b = pb;
-  result.triangle_a = ia;
-  result.triangle_b = ib;
+  report_pair(s, q.best_sa, q.best_sb, q.best_pa, q.best_pb, q.best, result);
   result.slot_a = s.swapped ? q.best_sb : q.best_sa;
   result.slot_b = s.swapped ? q.best_sa : q.best_sb;
 }

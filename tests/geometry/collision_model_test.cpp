@@ -3,6 +3,7 @@
 
 #include "kernels/tri_tri_overlap.h"
 #include "support/brute_force.h"
+#include "support/same_answer.h"
 #include "src/base/parallel.h"
 #include "support/sanitized.h"
 #include "support/test_meshes.h"
@@ -93,15 +94,7 @@ void check_pose(const Mesh& ma, const CollisionModel& a, const Affine& ta, const
     }
     ASSERT_TRUE(contact.found);
     ASSERT_EQ(contact.distance, 0.0);
-    ASSERT_EQ(contact.distance, plain.distance);
-    ASSERT_EQ(contact.triangle_a, plain.triangle_a);
-    ASSERT_EQ(contact.triangle_b, plain.triangle_b);
-    ASSERT_EQ(contact.slot_a, plain.slot_a);
-    ASSERT_EQ(contact.slot_b, plain.slot_b);
-    for (int k = 0; k < 3; ++k) {
-      ASSERT_EQ(contact.point_a[k], plain.point_a[k]);
-      ASSERT_EQ(contact.point_b[k], plain.point_b[k]);
-    }
+    ASSERT_TRUE(testing::same_answer(contact, plain));
     // The first pair listed is the one whose point is reported.
     ASSERT_EQ(c.triangle_pairs.front(), std::make_pair(contact.triangle_a, contact.triangle_b));
   }
