@@ -100,7 +100,9 @@ TEST(AffineFit, AgreesWithQrOnRandomAndDegenerateSets) {
     // rounding-level column for a direction and fit some of the noise; the
     // SVD of the centred points, like the moments, leaves such directions out.
     EXPECT_NEAR(ours, svd, 1e-6 * size + 1e-6 * svd);
-    if (k >= 3) EXPECT_NEAR(ours, reference, 1e-6 * size + 1e-6 * reference);
+    if (k >= 3) {
+      EXPECT_NEAR(ours, reference, 1e-6 * size + 1e-6 * reference);
+    }
     // The loader's decision, away from the tolerance itself.
     if (std::abs(reference - tolerance) > 0.05 * tolerance) {
       EXPECT_EQ(ours <= tolerance, reference <= tolerance);
