@@ -43,7 +43,7 @@ TEST(Isolate, ReturnsTheChildsBytesWhole) {
 // `meanwhile` runs in the parent while the child works, sees `stop` turn
 // true once the child has answered, is joined before run_isolated returns, and
 // its exceptions are no failure; a child's failure is still reported.
-TEST(Isolate, MeanwhileRunsInTheParentWhileTheChildWorks) {
+TEST(Isolate, MeanwhileRunsOnAParentThreadWhileTheChildWorks) {
   std::atomic<int> rounds{0};
   bool saw_stop = false;
   const std::string got = run_isolated(

@@ -820,7 +820,7 @@ TEST(ModelLoader3ds, StructuresBuiltAheadMatchOnlyPartsThatAreTheirObject) {
 
 // load_model's `meanwhile` runs while the child imports and has returned
 // when load_model does; in-process imports run nothing beside.
-TEST(ModelLoader3ds, MeanwhileRunsBesideTheImportOnly) {
+TEST(ModelLoader3ds, MeanwhileThreadRunsBesideTheImportOnly) {
   const auto file = kAssimpModels / "3DS" / "fels.3ds";
   bool ran = false, stopped = false;
   Scene s;
