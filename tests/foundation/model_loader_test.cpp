@@ -301,14 +301,22 @@ class TdsWriter {
   std::vector<Obj> objects_;
 };
 
-TEST(ModelLoader3ds, FlatObjectSplitByMaterialIsOnePart) {
-  testing::TempDir dir;
+// Two materials and a flat "Scoop" whose faces 0 and 2 are grey, face 1 red:
+// assimp makes two meshes of it (red, grey), the loader one part.
+const std::vector<Vec3> kScoopPoints = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0, 0, 3}};
+
+TdsWriter scoop_split_by_material() {
   TdsWriter w;
   w.material("Red");
   w.material("Grey");
-  const std::vector<Vec3> quad = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0, 0, 3}};
-  // Scoop: faces 0 and 2 grey, face 1 red -> two meshes (red, grey) -> one part.
-  w.object("Scoop", quad, {{0, 1, 2}, {0, 2, 3}, {0, 1, 4}}, {1, 0, 1});
+  w.object("Scoop", kScoopPoints, {{0, 1, 2}, {0, 2, 3}, {0, 1, 4}}, {1, 0, 1});
+  return w;
+}
+
+TEST(ModelLoader3ds, FlatObjectSplitByMaterialIsOnePart) {
+  testing::TempDir dir;
+  TdsWriter w = scoop_split_by_material();
+  const std::vector<Vec3>& quad = kScoopPoints;
   w.object("Arm", {{5, 0, 0}, {6, 0, 0}, {5, 0, 2}}, {{0, 1, 2}}, {0});
   const auto file = dir / "split.3ds";
   w.write(file);
@@ -767,11 +775,7 @@ TEST(ModelLoaderIsolation, AnImporterOverItsTimeIsAnInputErrorNamingTheFile) {
 // (faces regrouped) matches no part, so nothing is taken for it.
 TEST(ModelLoader3ds, StructuresBuiltAheadMatchOnlyPartsThatAreTheirObject) {
   testing::TempDir dir;
-  TdsWriter w;
-  w.material("Red");
-  w.material("Grey");
-  const std::vector<Vec3> quad = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}, {0, 0, 3}};
-  w.object("Scoop", quad, {{0, 1, 2}, {0, 2, 3}, {0, 1, 4}}, {1, 0, 1});
+  TdsWriter w = scoop_split_by_material();
   w.object("Arm", {{5, 0, 0}, {6, 0, 0}, {5, 0, 2}, {5, 1, 2}}, {{0, 1, 2}, {1, 2, 3}}, {0, 0});
   const auto file = dir / "split.3ds";
   w.write(file);
