@@ -429,20 +429,13 @@ class NativeScene {
       mesh->mNumVertices = 3 * mesh->mNumFaces;
       mesh->mFaces = new aiFace[mesh->mNumFaces];
       mesh->mVertices = new aiVector3D[mesh->mNumVertices];
-      // AddNodeToGraph takes the vertices of a mesh a node carries back
-      // into the object's local frame (the strict reader takes only
-      // identity axes, a zero pivot and every object carried by a node).
-      const auto& a = file.axes[m];
-      aiMatrix4x4 inverse(a[0], a[3], a[6], a[9], a[1], a[4], a[7], a[10], a[2], a[5], a[8], a[11], 0, 0, 0, 1);
-      inverse.Inverse();
       for (unsigned f = 0, v = 0; f < mesh->mNumFaces; ++f) {
         aiFace& face = mesh->mFaces[f];
         face.mNumIndices = 3;
         face.mIndices = index;
         for (unsigned c = 0; c < 3; ++c, ++v) {
           const Vec3& p = o.points[o.faces[f][c]];
-          const aiVector3D point(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-          mesh->mVertices[v] = keyframer ? inverse * point : point;
+          mesh->mVertices[v] = aiVector3D(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
           *index++ = v;
         }
       }
@@ -494,6 +487,36 @@ class NativeScene {
       out->mNumMeshes = static_cast<unsigned>(meshes.size());
       out->mMeshes = new unsigned[meshes.size()];
       std::copy(meshes.begin(), meshes.end(), out->mMeshes);
+      // The vertices of a mesh a node carries go back into the object's
+      // local frame (once: the strict reader has every object carried by
+      // exactly one node): the inverse of its axes matrix, x mirrored when
+      // that matrix turns space inside out, the node's pivot taken off.
+      const auto& a = file.axes[meshes[0]];
+      aiMatrix4x4 axes;
+      axes.a1 = a[0];
+      axes.b1 = a[1];
+      axes.c1 = a[2];
+      axes.a2 = a[3];
+      axes.b2 = a[4];
+      axes.c2 = a[5];
+      axes.a3 = a[6];
+      axes.b3 = a[7];
+      axes.c3 = a[8];
+      axes.a4 = a[9];
+      axes.b4 = a[10];
+      axes.c4 = a[11];
+      aiMatrix4x4 inverse = axes;
+      inverse.Inverse();
+      const aiVector3D pivot(in.pivot[0], in.pivot[1], in.pivot[2]);
+      for (unsigned m : meshes) {
+        aiMesh* mesh = scene_->mMeshes[m];
+        aiVector3D* const end = mesh->mVertices + mesh->mNumVertices;
+        for (aiVector3D* v = mesh->mVertices; v != end; ++v) *v = inverse * (*v);
+        if (axes.Determinant() < 0.0f)
+          for (aiVector3D* v = mesh->mVertices; v != end; ++v) v->x *= -1.f;
+        if (pivot.x || pivot.y || pivot.z)
+          for (aiVector3D* v = mesh->mVertices; v != end; ++v) *v -= pivot;
+      }
     }
     if (in.has_rotation) {
       aiVector3D axis(in.axis[0], in.axis[1], in.axis[2]);

@@ -11,13 +11,8 @@
 //   object, all its faces in file order, material "%%%DEFAULT");
 // - texture coordinates (0x4140): assimp clamps face indices against them;
 // - lights and cameras (0x4600, 0x4700; keyframer 0xB001, 0xB003..0xB007);
-// - a master scale (0x0100) other than 1, a local axes matrix (0x4160)
-//   other than the identity, a pivot (0xB013) other than zero: these move
-//   assimp's vertices, and the loader's match of the drawn faces to them
-//   would then rest on a least-squares tolerance rather than equality;
-// - keyframer tracks with more than one key, or key flags (spline data), a
-//   rotation key with a non-zero angle, a scale key other than 1 (position
-//   keys are taken: they move a node, not its mesh vertices);
+// - keyframer tracks with more than one key (an animation: assimp sorts
+//   and merges keys), or key flags (spline data);
 // - an object with no points or no faces, a face naming a point the object
 //   lacks, a second trimesh in an object or a second point, face or axes
 //   list in a trimesh, smoothing groups for more faces than there are,
@@ -31,6 +26,10 @@
 //   assimp's meshes to) would read where assimp does not (objects or point
 //   lists nested in odd places), and keyframer chunks the track guard
 //   (check_3ds_tracks) would read where assimp does not.
+// Taken as they are: the master scale, an object's local axes, a node's
+// pivot and its first position, rotation and scale keys. model_loader.cpp
+// applies them as assimp does, in its order, with its float types and its
+// inline math (assimp's headers), so vertices and transforms are its bits.
 #include "src/scene/tds_native.h"
 
 #include <cmath>
@@ -64,7 +63,9 @@ class StrictReader {
         case 0xB000: keyframer(c); break;
         case 0x0002: need(c, 2); break;
         case 0x4D4D: case 0x4000: decline();  // read_tds_objects would read these
-        default: break;
+        default:
+          if (guarded(c.id)) decline();
+          break;
       }
     });
     finish();
@@ -78,6 +79,9 @@ class StrictReader {
   };
 
   [[noreturn]] static void decline() { throw Declined{}; }
+  // Chunks check_3ds_tracks (tds_reader.h) walks into or checks wherever it
+  // meets them under 0x4D4D and the keyframer chunks, where assimp skips them.
+  static bool guarded(unsigned id) { return (id >= 0xB000 && id <= 0xB007) || (id >= 0xB020 && id <= 0xB029); }
   unsigned u16(std::size_t at) const { return static_cast<unsigned>(b_[at] | (b_[at + 1] << 8)); }
   std::uint32_t u32(std::size_t at) const { return u16(at) | (static_cast<std::uint32_t>(u16(at + 2)) << 16); }
   float f32(std::size_t at) const {
@@ -121,7 +125,7 @@ class StrictReader {
         case 0xAFFF: case 0x4D4D: case 0x3D3D: decline();
         case 0x0100:
           need(c, 4);
-          if (f32(c.body) != 1.0f) decline();
+          out_.master_scale = f32(c.body);  // the last one counts, as in assimp
           break;
         default: break;  // ambient colour, background: materials only
       }
@@ -178,11 +182,7 @@ class StrictReader {
           if (matrix) decline();
           matrix = true;
           need(c, 48);
-          static constexpr float kIdentity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
-          for (int k = 0; k < 12; ++k) {
-            axes[k] = f32(c.body + 4 * k);
-            if (axes[k] != kIdentity[k]) decline();
-          }
+          for (int k = 0; k < 12; ++k) axes[k] = f32(c.body + 4 * k);
           break;
         }
         case 0x4120: {
@@ -220,7 +220,9 @@ class StrictReader {
       switch (c.id) {
         case 0xB002: node(c); break;
         case 0xB000: case 0xB001: case 0xB003: case 0xB004: case 0xB005: case 0xB006: case 0xB007: decline();
-        default: break;
+        default:
+          if (guarded(c.id)) decline();
+          break;
       }
     });
   }
@@ -269,7 +271,7 @@ class StrictReader {
         }
         case 0xB013:
           need(c, 12);
-          if (f32(c.body) != 0.0f || f32(c.body + 4) != 0.0f || f32(c.body + 8) != 0.0f) decline();
+          k.pivot = {f32(c.body), f32(c.body + 4), f32(c.body + 8)};
           break;
         case 0xB020: case 0xB021: case 0xB022: {
           need(c, 14);
@@ -291,15 +293,12 @@ class StrictReader {
             k.has_rotation = true;
             k.angle = f32(v);
             k.axis = {f32(v + 4), f32(v + 8), f32(v + 12)};
-            if (k.angle != 0.0f) decline();
           } else {
             if (++scales > 1) decline();
             k.has_scale = true;
             k.scale = {f32(v), f32(v + 4), f32(v + 8)};
-            for (float& s : k.scale) {
+            for (float& s : k.scale)
               if (s == 0.0f) s = 1.0f;  // as assimp does
-              if (s != 1.0f) decline();
-            }
           }
           break;
         }

@@ -26,7 +26,7 @@ struct TdsKeyNode {
   std::vector<int> children;
   std::int16_t hierarchy_pos = -1;  // the file's parent index + 1, as assimp keeps it (mHierarchyPos)
   bool has_position = false, has_rotation = false, has_scale = false;
-  std::array<float, 3> position{}, axis{}, scale{};
+  std::array<float, 3> position{}, axis{}, scale{}, pivot{};
   float angle = 0.0f;
 };
 
