@@ -402,6 +402,22 @@ class Builder {
 class NativeScene {
  public:
   explicit NativeScene(const TdsFile& file) : scene_(std::make_unique<aiScene>()) {
+    try {
+      make(file);
+    } catch (...) {
+      release_indices();
+      throw;
+    }
+  }
+
+  ~NativeScene() { release_indices(); }
+  NativeScene(const NativeScene&) = delete;
+  NativeScene& operator=(const NativeScene&) = delete;
+
+  const aiScene& scene() const { return *scene_; }
+
+ private:
+  void make(const TdsFile& file) {
     aiScene& s = *scene_;
     // ReplaceDefaultMaterial: no material in the file, so every face has
     // the generated default.
@@ -464,16 +480,16 @@ class NativeScene {
         aiMatrix4x4(master, 0.f, 0.f, 0.f, 0.f, master, 0.f, 0.f, 0.f, 0.f, master, 0.f, 0.f, 0.f, 0.f, 1.f);
   }
 
-  ~NativeScene() {
-    for (unsigned m = 0; m < scene_->mNumMeshes; ++m)
-      for (unsigned f = 0; f < scene_->mMeshes[m]->mNumFaces; ++f) scene_->mMeshes[m]->mFaces[f].mIndices = nullptr;
+  // The faces' indices live in one pool (indices_), not in an array per
+  // face as aiFace's destructor expects: detached before the scene goes.
+  void release_indices() {
+    for (unsigned m = 0; scene_->mMeshes != nullptr && m < scene_->mNumMeshes; ++m) {
+      aiMesh* mesh = scene_->mMeshes[m];
+      for (unsigned f = 0; mesh != nullptr && mesh->mFaces != nullptr && f < mesh->mNumFaces; ++f)
+        mesh->mFaces[f].mIndices = nullptr;
+    }
   }
-  NativeScene(const NativeScene&) = delete;
-  NativeScene& operator=(const NativeScene&) = delete;
 
-  const aiScene& scene() const { return *scene_; }
-
- private:
   // AddNodeToGraph: the node's meshes are those of the object of its name;
   // its transform the first rotation, scaling and position keys.
   aiNode* node(const TdsFile& file, int k, aiNode* parent) {
