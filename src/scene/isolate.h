@@ -22,6 +22,9 @@ struct IsolationLimits {
   double seconds = 120.0;      // wall clock for the child, then SIGKILL
   std::size_t memory_mb = 0;   // address space the child may add; 0: half the machine's memory
   bool isolate = true;         // false: run `work` in this process (tests compare both)
+  // For model loading (model_loader.h): false sends every 3ds file to assimp,
+  // even one the strict native reader (tds_native.h) takes (tests compare both).
+  bool native_3ds = true;
 };
 
 // The child did not hand back a result: killed by a signal, over its time,

@@ -52,9 +52,11 @@
 #include "src/scene/affine_fit.h"
 #include "src/scene/assimp_import.h"
 #include "src/scene/isolate.h"
+#include "src/scene/tds_native.h"
 #include "src/scene/tds_reader.h"
 
 #include <assimp/material.h>
+#include <assimp/quaternion.h>
 #include <assimp/scene.h>
 
 #include <Eigen/Core>
@@ -69,8 +71,11 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <memory>
+#include <optional>
 #include <set>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -116,8 +121,15 @@ class Builder {
   Builder(const aiScene& ai, const std::filesystem::path& file, double scale, Scene& scene, bool unique_names)
       : ai_(ai), file_(file), scale_(scale), scene_(scene), unique_names_(unique_names) {}
 
+  // The 3ds objects as already read (the native path), instead of reading
+  // the file again.
+  void use_objects(std::vector<TdsObject> objects) {
+    tds_objects_ = std::move(objects);
+    objects_given_ = true;
+  }
+
   void build() {
-    if (is_3ds(file_)) tds_objects_ = read_tds_objects(file_);
+    if (is_3ds(file_) && !objects_given_) tds_objects_ = read_tds_objects(file_);
     const aiNode* root = ai_.mRootNode;
     Mat4 root_global = to_eigen(root->mTransformation);
     if (is_3ds(file_)) {
@@ -374,14 +386,234 @@ class Builder {
   bool unique_names_;
   std::vector<Pending> pending_;
   std::vector<TdsObject> tds_objects_;  // 3ds files only
+  bool objects_given_ = false;
   std::set<unsigned> used_meshes_;
 };
+
+// assimp's scene of a 3ds file the strict reader took (tds_native.h), made
+// here as assimp 5.2's 3ds importer makes it, for what Builder reads of it:
+// node names, transforms, children and meshes; mesh names, material names,
+// faces and vertices. The steps and their order are the importer's
+// (3DSConverter.cpp: ConvertMeshes, AddNodeToGraph, GenerateNodeGraph;
+// 3DSLoader.cpp: ApplyMasterScale), with assimp's own float types and
+// inline math, so the numbers are its numbers. The post-processing the
+// import asks for (Triangulate, SortByPType, ValidateDataStructure) leaves
+// such a scene as it is: triangles only, every index in range.
+class NativeScene {
+ public:
+  explicit NativeScene(const TdsFile& file) : scene_(std::make_unique<aiScene>()) {
+    try {
+      make(file);
+    } catch (...) {
+      release_indices();
+      throw;
+    }
+  }
+
+  ~NativeScene() { release_indices(); }
+  NativeScene(const NativeScene&) = delete;
+  NativeScene& operator=(const NativeScene&) = delete;
+
+  const aiScene& scene() const { return *scene_; }
+
+ private:
+  void make(const TdsFile& file) {
+    aiScene& s = *scene_;
+    // ReplaceDefaultMaterial: no material in the file, so every face has
+    // the generated default.
+    s.mNumMaterials = 1;
+    s.mMaterials = new aiMaterial*[1];
+    s.mMaterials[0] = new aiMaterial();
+    const aiString material("%%%DEFAULT");
+    s.mMaterials[0]->AddProperty(&material, AI_MATKEY_NAME);
+    // ConvertMeshes: one mesh per object (one material), three fresh
+    // vertices per face in face order, named with the object's index.
+    std::size_t corners = 0;
+    for (const TdsObject& o : file.objects) corners += 3 * o.faces.size();
+    indices_ = std::make_unique<unsigned[]>(corners);
+    const bool keyframer = file.nodes.size() > 1;
+    s.mNumMeshes = static_cast<unsigned>(file.objects.size());
+    s.mMeshes = new aiMesh*[s.mNumMeshes]();
+    unsigned* index = indices_.get();
+    for (unsigned m = 0; m < s.mNumMeshes; ++m) {
+      const TdsObject& o = file.objects[m];
+      aiMesh* mesh = s.mMeshes[m] = new aiMesh();
+      mesh->mName.Set(std::to_string(m));
+      mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+      mesh->mMaterialIndex = 0;
+      mesh->mNumFaces = static_cast<unsigned>(o.faces.size());
+      mesh->mNumVertices = 3 * mesh->mNumFaces;
+      mesh->mFaces = new aiFace[mesh->mNumFaces];
+      mesh->mVertices = new aiVector3D[mesh->mNumVertices];
+      for (unsigned f = 0, v = 0; f < mesh->mNumFaces; ++f) {
+        aiFace& face = mesh->mFaces[f];
+        face.mNumIndices = 3;
+        face.mIndices = index;
+        for (unsigned c = 0; c < 3; ++c, ++v) {
+          const Vec3& p = o.points[o.faces[f][c]];
+          mesh->mVertices[v] = aiVector3D(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+          *index++ = v;
+        }
+      }
+    }
+    // GenerateNodeGraph.
+    if (keyframer) {
+      s.mRootNode = node(file, 0, nullptr);
+    } else {
+      s.mRootNode = new aiNode("<3DSDummyRoot>");
+      s.mRootNode->mNumChildren = s.mNumMeshes;
+      s.mRootNode->mChildren = new aiNode*[s.mNumMeshes];
+      for (unsigned m = 0; m < s.mNumMeshes; ++m) {
+        aiNode* child = s.mRootNode->mChildren[m] = new aiNode("3DSMesh_" + std::to_string(m));
+        child->mParent = s.mRootNode;
+        child->mNumMeshes = 1;
+        child->mMeshes = new unsigned[1]{m};
+      }
+    }
+    s.mRootNode->mTransformation =
+        aiMatrix4x4(1.f, 0.f, 0.f, 0.f, 0.f, 0.f, 1.f, 0.f, 0.f, -1.f, 0.f, 0.f, 0.f, 0.f, 0.f, 1.f) *
+        s.mRootNode->mTransformation;
+    if (std::strstr(s.mRootNode->mName.C_Str(), "UNNAMED") != nullptr) s.mRootNode->mName.Set("<3DSRoot>");
+    // ApplyMasterScale.
+    const float master = file.master_scale == 0.0f ? 1.0f : 1.0f / file.master_scale;
+    s.mRootNode->mTransformation *=
+        aiMatrix4x4(master, 0.f, 0.f, 0.f, 0.f, master, 0.f, 0.f, 0.f, 0.f, master, 0.f, 0.f, 0.f, 0.f, 1.f);
+  }
+
+  // The faces' indices live in one pool (indices_), not in an array per
+  // face as aiFace's destructor expects: detached before the scene goes.
+  void release_indices() {
+    for (unsigned m = 0; scene_->mMeshes != nullptr && m < scene_->mNumMeshes; ++m) {
+      aiMesh* mesh = scene_->mMeshes[m];
+      for (unsigned f = 0; mesh != nullptr && mesh->mFaces != nullptr && f < mesh->mNumFaces; ++f)
+        mesh->mFaces[f].mIndices = nullptr;
+    }
+  }
+
+  // AddNodeToGraph: the node's meshes are those of the object of its name;
+  // its transform the first rotation, scaling and position keys.
+  aiNode* node(const TdsFile& file, int k, aiNode* parent) {
+    const TdsKeyNode& in = file.nodes[static_cast<std::size_t>(k)];
+    aiNode* out = new aiNode(in.name);
+    out->mParent = parent;
+    std::vector<unsigned> meshes;
+    for (unsigned m = 0; m < file.objects.size(); ++m)
+      if (file.objects[m].name == in.name) meshes.push_back(m);
+    if (!meshes.empty()) {
+      out->mNumMeshes = static_cast<unsigned>(meshes.size());
+      out->mMeshes = new unsigned[meshes.size()];
+      std::copy(meshes.begin(), meshes.end(), out->mMeshes);
+      // The vertices of a mesh a node carries go back into the object's
+      // local frame (once: the strict reader has every object carried by
+      // exactly one node): the inverse of its axes matrix, x mirrored when
+      // that matrix turns space inside out, the node's pivot taken off.
+      const auto& a = file.axes[meshes[0]];
+      aiMatrix4x4 axes;
+      axes.a1 = a[0];
+      axes.b1 = a[1];
+      axes.c1 = a[2];
+      axes.a2 = a[3];
+      axes.b2 = a[4];
+      axes.c2 = a[5];
+      axes.a3 = a[6];
+      axes.b3 = a[7];
+      axes.c3 = a[8];
+      axes.a4 = a[9];
+      axes.b4 = a[10];
+      axes.c4 = a[11];
+      aiMatrix4x4 inverse = axes;
+      inverse.Inverse();
+      const aiVector3D pivot(in.pivot[0], in.pivot[1], in.pivot[2]);
+      for (unsigned m : meshes) {
+        aiMesh* mesh = scene_->mMeshes[m];
+        aiVector3D* const end = mesh->mVertices + mesh->mNumVertices;
+        for (aiVector3D* v = mesh->mVertices; v != end; ++v) *v = inverse * (*v);
+        if (axes.Determinant() < 0.0f)
+          for (aiVector3D* v = mesh->mVertices; v != end; ++v) v->x *= -1.f;
+        if (pivot.x || pivot.y || pivot.z)
+          for (aiVector3D* v = mesh->mVertices; v != end; ++v) *v -= pivot;
+      }
+    }
+    if (in.has_rotation) {
+      aiVector3D axis(in.axis[0], in.axis[1], in.axis[2]);
+      if (!axis.x && !axis.y && !axis.z) axis.y = 1.f;
+      aiQuaternion rotation(axis, in.angle);
+      rotation.w *= -1.f;
+      out->mTransformation = aiMatrix4x4(rotation.GetMatrix());
+    }
+    aiMatrix4x4& m = out->mTransformation;
+    if (in.has_scale) {
+      m.a1 *= in.scale[0];
+      m.b1 *= in.scale[0];
+      m.c1 *= in.scale[0];
+      m.a2 *= in.scale[1];
+      m.b2 *= in.scale[1];
+      m.c2 *= in.scale[1];
+      m.a3 *= in.scale[2];
+      m.b3 *= in.scale[2];
+      m.c3 *= in.scale[2];
+    }
+    if (in.has_position) {
+      m.a4 += in.position[0];
+      m.b4 += in.position[1];
+      m.c4 += in.position[2];
+    }
+    out->mNumChildren = static_cast<unsigned>(in.children.size());
+    out->mChildren = new aiNode*[in.children.size()];
+    for (std::size_t c = 0; c < in.children.size(); ++c) out->mChildren[c] = node(file, in.children[c], out);
+    return out;
+  }
+
+  std::unique_ptr<aiScene> scene_;
+  std::unique_ptr<unsigned[]> indices_;
+};
+
+// The native path: a 3ds file the strict reader takes is built into its
+// part tree here, in this process, from the scene assimp would have made;
+// `meanwhile` runs beside it on a thread of its own, as it would beside
+// assimp's child (run_isolated: stopped once the part tree is built, joined
+// before this returns or throws, what it throws dropped).
+bool import_native(const std::filesystem::path& model, double length_scale, Scene& scene, bool unique_names,
+                   const std::function<void(const std::atomic<bool>& stop)>& meanwhile) {
+  if (!is_3ds(model)) return false;
+  std::optional<TdsFile> file = read_3ds_strict(model);
+  if (!file) return false;
+  std::atomic<bool> stop{false};
+  std::thread side;
+  if (meanwhile)
+    side = std::thread([&] {
+      try {
+        meanwhile(stop);
+      } catch (...) {
+      }
+    });
+  struct Joiner {
+    std::atomic<bool>& stop;
+    std::thread& side;
+    ~Joiner() {
+      stop = true;
+      if (side.joinable()) side.join();
+    }
+  } joiner{stop, side};
+  Scene imported;
+  {
+    const NativeScene ai(*file);
+    Builder builder(ai.scene(), model, length_scale, imported, unique_names);
+    builder.use_objects(std::move(file->objects));
+    builder.build();
+  }
+  scene.nodes = std::move(imported.nodes);
+  scene.parts = std::move(imported.parts);
+  for (std::string& w : imported.warnings) scene.warnings.push_back(std::move(w));
+  return true;
+}
 
 // load_model's and load_mesh's import: the part tree built in assimp's child
 // process, checked on its way back.
 void import_checked(const std::filesystem::path& model, double length_scale, Scene& scene,
                     const IsolationLimits& limits, bool unique_names,
                     const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {}) {
+  if (limits.native_3ds && import_native(model, length_scale, scene, unique_names, meanwhile)) return;
   import_isolated(
       model, limits,
       [&](const aiScene& ai, Scene& imported) { Builder(ai, model, length_scale, imported, unique_names).build(); },

@@ -20,8 +20,12 @@ namespace plancheck {
 // assimp runs in a child process under `limits` (src/scene/isolate.h): a crash, hang
 // or memory bomb in it becomes an InputError naming the file, and what the
 // child hands back is checked before it is used.
-// `meanwhile` runs in this process while the child imports (run_isolated):
-// for a caller with work to do ahead (and a core to do it on).
+// A 3ds file within the strict native reader's subset (src/scene/tds_native.h)
+// is read without assimp, in this process, to the same part tree, the same
+// bits and the same warnings; `limits.native_3ds` false sends it to assimp.
+// `meanwhile` runs in this process on a thread of its own while the child
+// imports (run_isolated) or the native reader builds the part tree: for a
+// caller with work to do ahead (and a core to do it on).
 void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
                 const IsolationLimits& limits = {},
                 const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {});

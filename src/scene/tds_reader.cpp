@@ -16,11 +16,12 @@
 namespace plancheck {
 namespace {
 
+}  // namespace
+
 // The whole file in one read: a 3ds model runs to megabytes, and reading it
 // through istreambuf_iterator, a byte and a vector growth at a time, cost
-// more than walking its chunks. An unreadable file reads as empty (both
-// callers then find no chunks and leave the judgement to assimp).
-std::vector<unsigned char> read_bytes(const std::filesystem::path& file) {
+// more than walking its chunks.
+std::vector<unsigned char> read_tds_bytes(const std::filesystem::path& file) {
   std::vector<unsigned char> bytes;
   std::ifstream in(file, std::ios::binary | std::ios::ate);
   if (!in) return bytes;
@@ -33,11 +34,13 @@ std::vector<unsigned char> read_bytes(const std::filesystem::path& file) {
   return bytes;
 }
 
+namespace {
+
 // read_tds_objects' chunk walk (see the header for what it reads and why it
 // stops quietly at damage).
 class TdsReader {
  public:
-  explicit TdsReader(const std::filesystem::path& file) : b_(read_bytes(file)) {}
+  explicit TdsReader(std::vector<unsigned char> bytes) : b_(std::move(bytes)) {}
 
   std::vector<TdsObject> objects() {
     walk(0, b_.size(), nullptr);
@@ -155,11 +158,15 @@ bool is_3ds(const std::filesystem::path& file) {
   return ext == ".3ds";
 }
 
-std::vector<TdsObject> read_tds_objects(const std::filesystem::path& file) { return TdsReader(file).objects(); }
+std::vector<TdsObject> read_tds_objects(const std::filesystem::path& file) {
+  return TdsReader(read_tds_bytes(file)).objects();
+}
+
+std::vector<TdsObject> read_tds_objects(std::vector<unsigned char> bytes) { return TdsReader(std::move(bytes)).objects(); }
 
 void check_3ds_tracks(const std::filesystem::path& file) {
   if (!is_3ds(file)) return;
-  const std::vector<unsigned char> b = read_bytes(file);
+  const std::vector<unsigned char> b = read_tds_bytes(file);
   check_tracks(b, 0, b.size(), file);
 }
 

@@ -30,6 +30,11 @@ struct TdsObject {
 // assimp has already judged the file, and a mismatch only means falling back
 // to assimp's own pose (see Builder::match_drawn_faces in model_loader.cpp).
 std::vector<TdsObject> read_tds_objects(const std::filesystem::path& file);
+std::vector<TdsObject> read_tds_objects(std::vector<unsigned char> bytes);
+
+// The whole file's bytes (empty when it cannot be read: the callers then find
+// no chunks and leave the judgement to assimp).
+std::vector<unsigned char> read_tds_bytes(const std::filesystem::path& file);
 
 // A .3ds file whose keyframer track claims more keys than its chunk can hold
 // is refused (InputError naming the file and byte) before assimp reads it:
