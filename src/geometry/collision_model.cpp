@@ -412,7 +412,8 @@ struct OverlapQuery {
 
   bool disjoint(const Pair& p, Cull& c) const {
     if (s.obb) {
-      if (s.obb_disjoint(p.a, p.b)) return true;
+      // A negative lower2 marks a pair split() already tested (kept: not disjoint).
+      if (!(p.lower2 < 0.0) && s.obb_disjoint(p.a, p.b)) return true;
       c.size_a = s.obb_size(p.a, true);
       c.size_b = s.obb_size(p.b, false);
       return false;
@@ -444,14 +445,22 @@ struct OverlapQuery {
     std::uint32_t any = 0;
     for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
     if (any == 0) return true;
+    // Only the triangles some pair still needs are mapped in double (a
+    // triangle's coordinates do not depend on which others are mapped).
     double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
-    for (std::uint32_t i = 0; i < x.count; ++i) s.a.triangle(x.index + i, tri_a[i]);
-    for (std::uint32_t j = 0; j < y.count; ++j) s.b.triangle(y.index + j, tri_b[j]);
     // Exact per-triangle box prefilter: the boxes come from the very
     // doubles the exact test sees, so disjoint boxes prove disjointness.
     double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
-    for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(tri_a[i], box_a[i]);
-    for (std::uint32_t j = 0; j < y.count; ++j) triangle_box(tri_b[j], box_b[j]);
+    for (std::uint32_t i = 0; i < x.count; ++i) {
+      if (touch[i] == 0) continue;
+      s.a.triangle(x.index + i, tri_a[i]);
+      triangle_box(tri_a[i], box_a[i]);
+    }
+    for (std::uint32_t m = any; m != 0; m &= m - 1) {
+      const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+      s.b.triangle(y.index + j, tri_b[j]);
+      triangle_box(tri_b[j], box_b[j]);
+    }
     for (std::uint32_t i = 0; i < x.count; ++i)
       for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
         const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
@@ -474,14 +483,43 @@ struct OverlapQuery {
   int split(const Pair& p, const Cull& c, Pair* kids) const {
     const BvhNode& x = na[p.a];
     const BvhNode& y = nb[p.b];
-    if (!x.is_leaf() && (y.is_leaf() || c.size_a >= c.size_b)) {
+    const bool split_a = !x.is_leaf() && (y.is_leaf() || c.size_a >= c.size_b);
+    if (split_a) {
       kids[0] = {x.index, p.b, 0.0};
       kids[1] = {x.index + 1, p.b, 0.0};
     } else {
       kids[0] = {p.a, y.index, 0.0};
       kids[1] = {p.a, y.index + 1, 0.0};
     }
-    return 2;
+    if (!s.obb) return 2;
+    // With oriented boxes the children are tested here rather than when
+    // popped (the same test on the same values, so the same pairs survive;
+    // splitting a, both meet one b node, mapped once), and the one whose
+    // boxes overlap more deeply, by centre distance over the smaller radius,
+    // is visited first: a contact, where there is one, tends to lie there,
+    // and a first-contact query stops on it sooner. (Seed 1's 2,000 cold
+    // states, first contact only: this key 0.0253 s, centres over the sum of
+    // the radii 0.0305 s, the fixed order 0.032 s.)
+    Setup::MappedB shared;
+    if (split_a) s.map_b(p.b, shared);
+    double key[2];
+    int n = 0;
+    for (int k = 0; k < 2; ++k) {
+      Setup::MappedB own;
+      Setup::MappedB& mb = split_a ? shared : own;
+      if (!split_a) s.map_b(kids[k].b, own);
+      const NodeObb& oa = s.a.data->obbs[kids[k].a];
+      const NodeObb& ob = s.b.data->obbs[kids[k].b];
+      Setup::ObbPair op;
+      s.obb_pair(kids[k].a, mb, op);
+      if (plancheck::obb_disjoint(op.rel, oa.half, ob.half, op.tol)) continue;
+      key[n] = op.dist_centres / (std::min(oa.radius, ob.radius) + 1e-300);
+      kids[n] = kids[k];
+      kids[n].lower2 = -1.0;  // tested: disjoint() skips it
+      ++n;
+    }
+    if (n == 2 && key[1] < key[0]) std::swap(kids[0], kids[1]);
+    return n;
   }
 };
 
