@@ -9,8 +9,9 @@
 // box), plus the reverse mapping into b's frame when b's map is rigid. Every
 // test is widened by a margin that covers rounding, so no pair holding
 // touching triangles is culled. Leaf pairs: an exact per-triangle box filter
-// before the overlap kernel; for distance a separating-axis bound on the
-// actual vertices before the distance kernel. distance() first runs the
+// before the overlap kernel; for distance separating-axis bounds on the
+// actual vertices (among them the direction of the closest pair so far,
+// kernels/direction_bound.h) before the distance kernel. distance() first runs the
 // collision traversal (stop at first hit), since distance bounds cannot cull
 // anything among pairs at distance 0.
 //
@@ -23,6 +24,7 @@
 #include "src/geometry/collision_model.h"
 
 #include "kernels/box.h"
+#include "kernels/direction_bound.h"
 #include "kernels/leaf_bounds.h"
 #include "kernels/tri_distance.h"
 #include "kernels/tri_tri_overlap.h"
@@ -554,6 +556,11 @@ struct DistanceQuery {
   const LeafKernels& kernels = leaf_kernels();
   const LeafSide side_a = s.a.leaf_side(), side_b = s.b.leaf_side();
   const double kernel_slack = 1e-13 * std::max(side_a.size, side_b.size) + 1e-300;
+  // The skip test on the direction of the best pair (kernels/direction_bound.h);
+  // dir_gen counts improvements (what the leaves' cached spans are valid for).
+  DirectionBound dir{};
+  bool dir_set = false;
+  std::uint32_t dir_gen = 0;
 
   double best2() const { return best2_; }
   void visited() { ++result.node_pairs_visited; }
@@ -569,6 +576,8 @@ struct DistanceQuery {
     best_sb = sb;
     best_pa = pa;
     best_pb = pb;
+    dir_set = dir.set(pa.data(), pb.data(), best, kernel_slack);
+    ++dir_gen;
   }
 
   // Squared lower bound of node pair (ia, ib); sizes (when asked) get the
@@ -691,6 +700,9 @@ struct DistanceQuery {
     // Computed on first use: most pairs fall to the cheaper bounds first.
     double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
     bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
+    // Spans on dir: a's highest, b's lowest projection (valid while gen_* == dir_gen).
+    double dir_a[kMaxLeafSize], dir_b[kMaxLeafSize];
+    std::uint32_t gen_a[kMaxLeafSize] = {}, gen_b[kMaxLeafSize] = {};
     for (std::uint32_t i = 0; i < x.count; ++i)
       for (std::uint32_t m = lb.candidates[i]; m != 0; m &= m - 1) {
         const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
@@ -700,6 +712,19 @@ struct DistanceQuery {
         // Triangle boxes: a cheap lower bound (axis-aligned gaps).
         if (box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= best2_)
           continue;
+        // The best pair's direction: cheap once each triangle's span on
+        // it is known, and it settles most pairs around a curved contact.
+        if (dir_set) {
+          if (gen_a[i] != dir_gen) {
+            dir_a[i] = dir.high(tri_a[i]);
+            gen_a[i] = dir_gen;
+          }
+          if (gen_b[j] != dir_gen) {
+            dir_b[j] = dir.low(tri_b[j]);
+            gen_b[j] = dir_gen;
+          }
+          if (dir_b[j] - dir_a[i] >= dir.cut) continue;
+        }
         need_whole();
         if (lo_b[j] - hi_a[i] - slack >= cut) continue;
         if (!have_a[i]) {
