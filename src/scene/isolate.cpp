@@ -134,6 +134,21 @@ std::string last_line(const std::string& text) {
 
 bool in_isolated_child() { return g_in_child; }
 
+SideWork::SideWork(const std::function<void(const std::atomic<bool>& stop)>& work) {
+  if (!work) return;
+  thread_ = std::thread([this, work] {
+    try {
+      work(stop_);
+    } catch (...) {
+    }
+  });
+}
+
+SideWork::~SideWork() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
 std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits,
                          const std::function<void(const std::atomic<bool>& stop)>& meanwhile) {
   if (!limits.isolate) return work();
@@ -162,24 +177,7 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolati
   // The caller's work while the child runs (this thread only waits): on a
   // thread of its own, started after the fork (the child inherits no
   // running thread), joined on every way out; what it throws is dropped.
-  std::atomic<bool> stop{false};
-  std::thread side;
-  if (meanwhile) {
-    side = std::thread([&] {
-      try {
-        meanwhile(stop);
-      } catch (...) {
-      }
-    });
-  }
-  struct Joiner {
-    std::atomic<bool>& stop;
-    std::thread& side;
-    ~Joiner() {
-      stop = true;
-      if (side.joinable()) side.join();
-    }
-  } joiner{stop, side};
+  SideWork side(meanwhile);
 
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -217,7 +215,7 @@ std::string run_isolated(const std::function<std::string()>& work, const Isolati
     }
     if (read_failed) break;
   }
-  stop = true;  // the child has answered (or failed): `meanwhile` has had its time
+  side.stop();  // the child has answered (or failed): `meanwhile` has had its time
   for (const pollfd& p : fds)
     if (p.fd >= 0) ::close(p.fd);
   if (timed_out || read_failed) ::kill(pid, SIGKILL);

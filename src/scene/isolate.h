@@ -15,6 +15,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 namespace plancheck {
 
@@ -49,6 +50,24 @@ class IsolationError : public std::runtime_error {
 // fork). The caller counts its thread in its own thread budget.
 std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits = {},
                          const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {});
+
+// A `meanwhile` (as above) on a thread of its own from construction; the
+// destructor sets its stop flag and joins it, on every way out of the
+// caller's scope. What it throws is dropped. An empty function starts
+// nothing. (run_isolated and load_model's native 3ds path both use it.)
+class SideWork {
+ public:
+  explicit SideWork(const std::function<void(const std::atomic<bool>& stop)>& work);
+  ~SideWork();
+  SideWork(const SideWork&) = delete;
+  SideWork& operator=(const SideWork&) = delete;
+  // Tells the work to stop (without waiting for it).
+  void stop() { stop_ = true; }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
 
 // True in the child process run_isolated forked (which ends with _exit:
 // what it allocates need not be freed).

@@ -75,7 +75,6 @@
 #include <optional>
 #include <set>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
@@ -578,23 +577,7 @@ bool import_native(const std::filesystem::path& model, double length_scale, Scen
   if (!is_3ds(model)) return false;
   std::optional<TdsFile> file = read_3ds_strict(model);
   if (!file) return false;
-  std::atomic<bool> stop{false};
-  std::thread side;
-  if (meanwhile)
-    side = std::thread([&] {
-      try {
-        meanwhile(stop);
-      } catch (...) {
-      }
-    });
-  struct Joiner {
-    std::atomic<bool>& stop;
-    std::thread& side;
-    ~Joiner() {
-      stop = true;
-      if (side.joinable()) side.join();
-    }
-  } joiner{stop, side};
+  const SideWork side(meanwhile);
   Scene imported;
   {
     const NativeScene ai(*file);
