@@ -18,10 +18,6 @@
 
 #include <nlohmann/json.hpp>
 
-#if defined(__GLIBC__)
-#include <malloc.h>
-#endif
-
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -90,17 +86,6 @@ std::string verify_fingerprint(const std::string& setup, const Scene& scene, con
 // verify for a single run, a shard, an MPI rank (merge == nullptr), or
 // plancheck merge (merge: the partial results to write the outputs from).
 int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, const PartialSet* merge) {
-#if defined(__GLIBC__)
-  // A run allocates and frees many large blocks (the model, meshes, boxes,
-  // trees) in a short time: glibc maps each block over 128 KiB anew and
-  // hands it back when freed, and every fresh page costs a fault and a
-  // clearing (about a tenth of the run's CPU time before the first answer).
-  // Kept on the heap (up to glibc's 32 MiB ceiling per block) and not
-  // trimmed, freed memory is reused instead. A one-shot process; no answer
-  // depends on where memory comes from.
-  mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);
-  mallopt(M_TRIM_THRESHOLD, 1024 * 1024 * 1024);
-#endif
   const bool mpi = !merge && under_mpi();
   const int rank = mpi ? mpi_rank() : 0;
   std::ostream silent(nullptr);
