@@ -2,6 +2,7 @@
 // Run-time choice of the kernels' instruction set, made once. Baseline flags:
 // this file only reads tables the ISA-specific files define.
 #include "kernels/leaf_bounds.h"
+#include "kernels/tri_distance.h"
 
 #include <atomic>
 #include <cstdio>
@@ -43,7 +44,15 @@ void lower_none(const LeafPairInput& in, float, LeafPairBounds& out) noexcept {
   }
 }
 
-constexpr LeafKernels kLeafKernelsNone{"none", 1, &touch_none, &lower_none, &touch_none};
+// The scalar triangle distance itself (branching on the data).
+double tri_distance2_scalar(const double* p, const double* q, double* p_out, double* q_out) noexcept {
+  Eigen::Vector3d a, b;
+  const double d2 = tri_distance_disjoint2(p, q, a, b);
+  for (int k = 0; k < 3; ++k) p_out[k] = a[k], q_out[k] = b[k];
+  return d2;
+}
+
+constexpr LeafKernels kLeafKernelsNone{"none", 1, &touch_none, &lower_none, &touch_none, &tri_distance2_scalar};
 
 const LeafKernels* choose() noexcept {
   // Without SIMD lanes the prefilter costs more than it saves (Table 3

@@ -54,6 +54,39 @@ struct VFloat {
   friend VFloat select(M m, VFloat a, VFloat b) noexcept { return {m ? a.v : b.v}; }
 };
 
+// Double lanes of one width (W = 2, 4, 8: SSE2, AVX, AVX-512 registers), for
+// the exact triangle distance written once over the width
+// (kernels/tri_distance_lanes.h). Same rules as VFloat.
+template <int W, class Tag>
+struct VDouble {
+  static_assert(W == 1 || W == 2 || W == 4 || W == 8, "lane width");
+  static constexpr int kWidth = W;
+  using One = VDouble<1, Tag>;  // one lane of the same instruction set
+  typedef double V __attribute__((vector_size(8 * W)));
+  typedef std::int64_t M __attribute__((vector_size(8 * W)));
+  V v;
+
+  static VDouble broadcast(double x) noexcept {
+    VDouble r;
+    r.v = V{} + x;
+    return r;
+  }
+  static VDouble load(const double* p) noexcept {
+    VDouble r;
+    __builtin_memcpy(&r.v, p, sizeof(V));
+    return r;
+  }
+  void store(double* p) const noexcept { __builtin_memcpy(p, &v, sizeof(V)); }
+
+  friend VDouble operator+(VDouble a, VDouble b) noexcept { return {a.v + b.v}; }
+  friend VDouble operator-(VDouble a, VDouble b) noexcept { return {a.v - b.v}; }
+  friend VDouble operator*(VDouble a, VDouble b) noexcept { return {a.v * b.v}; }
+  friend VDouble operator/(VDouble a, VDouble b) noexcept { return {a.v / b.v}; }
+  friend VDouble operator-(VDouble a) noexcept { return {-a.v}; }
+  // a where m, else b.
+  friend VDouble select(M m, VDouble a, VDouble b) noexcept { return {m ? a.v : b.v}; }
+};
+
 // Bit k set when lane k of m is true.
 template <class F>
 inline std::uint32_t movemask(typename F::M m) noexcept {

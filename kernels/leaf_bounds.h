@@ -85,6 +85,11 @@ struct LeafKernels {
   // touch_masks without its row and column pre-pass (the same bits; tests
   // compare the two).
   void (*touch_masks_all)(const LeafPairInput& in, std::uint32_t* touch) noexcept;
+  // tri_distance_disjoint2 (kernels/tri_distance.h) bitwise, its candidate
+  // feature pairs in double lanes (kernels/tri_distance_lanes.h): squared
+  // distance of triangles p, q (9 doubles each), closest points to p_out,
+  // q_out (3 doubles each).
+  double (*tri_distance2)(const double* p, const double* q, double* p_out, double* q_out) noexcept;
 };
 
 // A model's side of a query, for make_leaf_pair.

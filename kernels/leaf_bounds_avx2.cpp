@@ -7,9 +7,10 @@ namespace plancheck {
 namespace {
 struct Avx2Tag {};  // private: these instantiations have internal linkage
 using F = lanes::VFloat<8, Avx2Tag>;
+using D = lanes::VDouble<4, Avx2Tag>;
 }  // namespace
 
 extern const LeafKernels kLeafKernelsAvx2;
-const LeafKernels kLeafKernelsAvx2 = leaf_bounds_detail::make_kernels<F>("avx2");
+const LeafKernels kLeafKernelsAvx2 = leaf_bounds_detail::make_kernels<F, D>("avx2");
 
 }  // namespace plancheck

@@ -7,9 +7,10 @@ namespace plancheck {
 namespace {
 struct Avx512Tag {};  // private: these instantiations have internal linkage
 using F = lanes::VFloat<16, Avx512Tag>;
+using D = lanes::VDouble<8, Avx512Tag>;
 }  // namespace
 
 extern const LeafKernels kLeafKernelsAvx512;
-const LeafKernels kLeafKernelsAvx512 = leaf_bounds_detail::make_kernels<F>("avx512");
+const LeafKernels kLeafKernelsAvx512 = leaf_bounds_detail::make_kernels<F, D>("avx512");
 
 }  // namespace plancheck

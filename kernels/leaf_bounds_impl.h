@@ -7,6 +7,7 @@
 
 #include "kernels/lanes.h"
 #include "kernels/leaf_bounds.h"
+#include "kernels/tri_distance_lanes.h"
 
 namespace plancheck::leaf_bounds_detail {
 // Internal linkage for everything here, templates or not: each including
@@ -334,9 +335,11 @@ void lower_bounds(const LeafPairInput& in, float cut2, LeafPairBounds& out) noex
   }
 }
 
-template <class F>
+// F: float lanes of the prefilters; D: double lanes of the triangle distance.
+template <class F, class D>
 constexpr LeafKernels make_kernels(const char* name) noexcept {
-  return LeafKernels{name, F::kWidth, &touch_masks<F, true>, &lower_bounds<F>, &touch_masks<F, false>};
+  return LeafKernels{name, F::kWidth, &touch_masks<F, true>, &lower_bounds<F>, &touch_masks<F, false>,
+                     &tri_distance_lanes::disjoint2<D>};
 }
 
 }  // namespace

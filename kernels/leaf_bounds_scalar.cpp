@@ -8,9 +8,10 @@ namespace plancheck {
 namespace {
 struct ScalarTag {};  // private: these instantiations have internal linkage
 using F = lanes::VFloat<1, ScalarTag>;
+using D = lanes::VDouble<1, ScalarTag>;
 }  // namespace
 
 extern const LeafKernels kLeafKernelsScalar;
-const LeafKernels kLeafKernelsScalar = leaf_bounds_detail::make_kernels<F>("scalar");
+const LeafKernels kLeafKernelsScalar = leaf_bounds_detail::make_kernels<F, D>("scalar");
 
 }  // namespace plancheck

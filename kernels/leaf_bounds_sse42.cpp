@@ -7,9 +7,10 @@ namespace plancheck {
 namespace {
 struct Sse42Tag {};  // private: these instantiations have internal linkage
 using F = lanes::VFloat<4, Sse42Tag>;
+using D = lanes::VDouble<2, Sse42Tag>;
 }  // namespace
 
 extern const LeafKernels kLeafKernelsSse42;
-const LeafKernels kLeafKernelsSse42 = leaf_bounds_detail::make_kernels<F>("sse4.2");
+const LeafKernels kLeafKernelsSse42 = leaf_bounds_detail::make_kernels<F, D>("sse4.2");
 
 }  // namespace plancheck

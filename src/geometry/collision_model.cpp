@@ -743,7 +743,7 @@ struct DistanceQuery {
         // are disjoint: the feature pairs alone give the exact tri_distance
         // answer, without its overlap test.
         Vec3 pp, qq;
-        const double d2 = tri_distance_disjoint2(tri_a[i], tri_b[j], pp, qq);
+        const double d2 = kernels.tri_distance2(tri_a[i], tri_b[j], pp.data(), qq.data());
         const double dist = std::sqrt(d2);
         if (!(dist < best)) continue;
         improve(dist, x.index + i, y.index + j, pp, qq);
@@ -866,7 +866,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       s.a.triangle(sa, p);
       s.b.triangle(sb, t);
       Vec3 pp, qq;
-      const double dist = std::sqrt(tri_distance_disjoint2(p, t, pp, qq));
+      const double dist = std::sqrt(q.kernels.tri_distance2(p, t, pp.data(), qq.data()));
       if (dist < q.best) q.improve(dist, sa, sb, pp, qq);
     }
   }

@@ -8,6 +8,7 @@
 #include "src/geometry/heightfield.h"
 
 #include "kernels/box.h"
+#include "kernels/leaf_bounds.h"
 #include "kernels/obb.h"
 #include "kernels/pair_traversal.h"
 #include "kernels/tri_distance.h"
@@ -414,9 +415,11 @@ struct HfQuery {
     if (rigid) return tri_tri_overlap(p, p + 3, p + 6, t, t + 3, t + 6);
     return tri_tri_overlap(t, t + 3, t + 6, p, p + 3, p + 6);
   }
+  // tri_distance_disjoint2 bitwise, in the dispatched kernels' double lanes.
   double distance2(const double* p, const double* t, Vec3& on_p, Vec3& on_t) const {
-    if (rigid) return tri_distance_disjoint2(p, t, on_p, on_t);
-    return tri_distance_disjoint2(t, p, on_t, on_p);
+    const LeafKernels& k = leaf_kernels();
+    if (rigid) return k.tri_distance2(p, t, on_p.data(), on_t.data());
+    return k.tri_distance2(t, p, on_t.data(), on_p.data());
   }
   TriDistance common_point(const double* p, const double* t) const {
     if (rigid) return tri_distance(p, t);
