@@ -17,6 +17,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <random>
 #include <vector>
@@ -338,6 +339,31 @@ void BM_LeafBounds_DoubleOverlapReference(benchmark::State& state) {
 }
 BENCHMARK(BM_LeafBounds_DoubleOverlapReference);
 
+// The exact distance of disjoint triangles (tri_distance_disjoint2) through
+// one instruction set's double lanes (kernels/tri_distance_lanes.h), after
+// checking every answer equals the scalar kernel's bit for bit.
+void BM_TriDistance_Lanes(benchmark::State& state, const LeafKernels* k) {
+  const KnownPairs pairs = make_pairs(4096, Kind::kSeparated, 11);
+  for (std::size_t i = 0; i < pairs.p.size(); ++i) {
+    Eigen::Vector3d a, b;
+    const double want = tri_distance_disjoint2(pairs.p[i].data(), pairs.q[i].data(), a, b);
+    double pa[3], pb[3];
+    const double got = k->tri_distance2(pairs.p[i].data(), pairs.q[i].data(), pa, pb);
+    if (std::memcmp(&want, &got, sizeof want) != 0 || pa[0] != a[0] || pa[1] != a[1] || pa[2] != a[2] ||
+        pb[0] != b[0] || pb[1] != b[1] || pb[2] != b[2]) {
+      state.SkipWithError("differs from the scalar kernel");
+      return;
+    }
+  }
+  std::size_t i = 0;
+  for (auto _ : state) {
+    double pa[3], pb[3];
+    benchmark::DoNotOptimize(k->tri_distance2(pairs.p[i].data(), pairs.q[i].data(), pa, pb));
+    i = (i + 1) % pairs.p.size();
+  }
+  state.SetItemsProcessed(static_cast<std::int64_t>(state.iterations()));
+}
+
 // One registration per instruction set this CPU has (names end in /<isa>).
 const bool registered = [] {
   for (int i = 0; i < kIsaCount; ++i) {
@@ -347,6 +373,8 @@ const bool registered = [] {
                                  BM_LeafBounds_Touch, k);
     benchmark::RegisterBenchmark((std::string("BM_LeafBounds_Lower/") + k->name).c_str(),
                                  BM_LeafBounds_Lower, k);
+    benchmark::RegisterBenchmark((std::string("BM_TriDistance_Lanes/") + k->name).c_str(),
+                                 BM_TriDistance_Lanes, k);
   }
   return true;
 }();
