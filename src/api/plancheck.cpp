@@ -23,6 +23,7 @@ using ::plancheck::hardware_threads;
 using ::plancheck::load_scene;
 using ::plancheck::parallel_for;
 using ::plancheck::state_verdict;
+using ::plancheck::row_request;
 using ::plancheck::verdict_only_request;
 using CheckRequest = ::plancheck::CheckRequest;
 }  // namespace plancheck_core
@@ -106,9 +107,10 @@ void check_one(const detail::CheckerData& d, const std::vector<double>& params, 
                const CheckOptions& options) {
   plancheck_core::StateResult st;
   const plancheck_core::Scene& scene = d.scene->scene;
+  // A row needs no listing of intersecting triangles (row_request).
   d.checker->check_state(params, st,
                          options.verdict_only ? plancheck_core::verdict_only_request(scene.safety_margin)
-                                              : plancheck_core::CheckRequest{});
+                                              : plancheck_core::row_request());
   const double unit = scene.length_scale;
   out.min_distance_is_bound = st.distance_is_bound;
   out.collision = st.collision;

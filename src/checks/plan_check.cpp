@@ -23,10 +23,15 @@ Verdict state_verdict(const StateResult& st, double margin) {
   return Verdict::kSafe;
 }
 
-CheckRequest verdict_only_request(double safety_margin) {
+CheckRequest row_request() {
   CheckRequest r;
   r.max_triangle_pairs = 0;
   r.all_contacts = false;
+  return r;
+}
+
+CheckRequest verdict_only_request(double safety_margin) {
+  CheckRequest r = row_request();
   // A margin of 0 (or less) judges contacts only: every distance may be a bound.
   r.exact_below = std::max(safety_margin, 0.0);
   return r;

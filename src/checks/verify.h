@@ -157,6 +157,15 @@ struct CheckRequest {
 // The verdicts are those of the full request.
 CheckRequest verdict_only_request(double safety_margin);
 
+// What a state's row needs (a plan CSV row, the API's and Python's full
+// check): everything the full request gives but the listing of intersecting
+// triangle pairs, which only verify's report.json uses. The first colliding
+// pair in checked-pair order and its contact point are the full request's
+// (the collision test walks the same way and stops at its first hit), the
+// minimum distance, its pair and points too; `contacts` holds that first
+// pair with one triangle pair.
+CheckRequest row_request();
+
 // Coherence between consecutive states of a plan: the previous state's
 // closest pair (checked pair and triangle slots) seeds the next state's
 // distance search with a tight upper bound, and the separations the previous

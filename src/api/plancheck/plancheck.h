@@ -90,10 +90,10 @@ struct StateResult {
 
 // What a check computes. The verdict is the same either way.
 struct CheckOptions {
-  // false (default): verify's full answer (every colliding pair, the exact
-  // minimum distance and its points). true: verify --verdict-only's: the
-  // first colliding pair only, and exact distances only below the safety
-  // margin (min_distance_is_bound otherwise). Faster, most on safe states.
+  // false (default): verify's full answer, as its CSV row has it (the first
+  // colliding pair, the exact minimum distance and its points). true: verify
+  // --verdict-only's: exact distances only below the safety margin
+  // (min_distance_is_bound otherwise). Faster, most on safe states.
   bool verdict_only = false;
 };
 
