@@ -12,8 +12,10 @@
 #include "src/scene/terrain.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <latch>
 #include <numeric>
 
 namespace plancheck {
@@ -107,28 +109,53 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
     }
   }
 
-  // Leave out static triangles no moving part can reach (kept_ maps back).
+  // The structures are jobs of one queue, taken in this order by the
+  // threads as they come free: the probes' ray scene (Embree's BVH over the
+  // static parts, from the scene alone: the longest job, so first), then
+  // leaving out the static triangles no moving part can reach (kept_ maps
+  // back; one thread's job, beside the ray scene), then each part's BVH,
+  // the moving parts first (they do not depend on the pruning), then the
+  // static ones, largest first so the last jobs are short; a static part
+  // waits for the pruning, which decides its mesh. Nothing waits for the
+  // pruning to start the ray scene or the moving parts, and the queue keeps
+  // both threads busy to its end. A part's box is found beside its BVH.
   std::vector<Mesh> pruned;
   kept_.resize(meshes.size());
-  left_out_ = prune_static(scene, meshes, pruned, threads);
-
-  // Build the per-part structures in parallel: parts are independent.
-  if (terrain) meshes.pop_back();  // the heightfield above is the terrain's structure
-  // The probes' ray scene (Embree's BVH over the static parts, from the
-  // scene alone) is one more job beside them, the first one taken: it is
-  // the longest, and within the same thread budget (its own parallel
-  // building runs in the same pool).
-  std::vector<std::optional<CollisionModel>> built(meshes.size());
-  const std::size_t first_model = scene.probes.empty() ? 0 : 1;
-  parallel_for(first_model + meshes.size(), threads, 1, [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t i = begin; i < end; ++i) {
-      if (i < first_model)
-        probes_ = std::make_unique<const ProbeCaster>(scene);
-      else if (auto data = ahead != nullptr ? ahead->find(*meshes[i - first_model]) : nullptr)
-        built[i - first_model].emplace(std::move(data));  // built from this very mesh (BuiltAhead)
+  const std::size_t part_count = scene.parts.size();  // meshes[part_count]: the terrain's, for pruning only
+  std::vector<std::size_t> order(part_count);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if ((chain_of_[a] >= 0) != (chain_of_[b] >= 0)) return chain_of_[a] >= 0;
+    return meshes[a]->triangles.size() > meshes[b]->triangles.size();
+  });
+  std::vector<std::optional<CollisionModel>> built(part_count);
+  std::vector<Box> boxes(part_count);
+  const std::size_t probe_jobs = scene.probes.empty() ? 0 : 1;
+  const std::size_t jobs = probe_jobs + 1 + part_count;
+  std::atomic<std::size_t> next_job{0};
+  std::latch pruning_done(1);
+  const auto run_job = [&](std::size_t job) {
+    if (job < probe_jobs) {
+      probes_ = std::make_unique<const ProbeCaster>(scene);
+    } else if (job == probe_jobs) {
+      struct CountDown {
+        std::latch& latch;
+        ~CountDown() { latch.count_down(); }  // also when pruning throws: no thread waits forever
+      } count_down{pruning_done};
+      left_out_ = prune_static(scene, meshes, pruned, 1);
+    } else {
+      const std::size_t part = order[job - probe_jobs - 1];
+      if (chain_of_[part] < 0) pruning_done.wait();
+      if (auto data = ahead != nullptr ? ahead->find(*meshes[part]) : nullptr)
+        built[part].emplace(std::move(data));  // built from this very mesh (BuiltAhead)
       else
-        built[i - first_model].emplace(*meshes[i - first_model]);
+        built[part].emplace(*meshes[part]);
+      boxes[part] = mesh_box(*meshes[part]);
     }
+  };
+  const int job_threads = threads > 0 ? threads : hardware_threads();
+  parallel_for(static_cast<std::size_t>(job_threads), job_threads, 1, [&](std::size_t, std::size_t, int) {
+    for (std::size_t job; (job = next_job.fetch_add(1)) < jobs;) run_job(job);
   });
   for (auto& m : built) models_.push_back(std::move(*m));
   for (PairRef& p : pairs_)
@@ -152,8 +179,7 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   }
   for (std::size_t i = 0; i < in_pair.size(); ++i)
     if (in_pair[i]) guard_parts_.push_back(static_cast<int>(i));
-  for (const Mesh* m : meshes) {
-    const Box b = mesh_box(*m);
+  for (const Box& b : boxes) {
     local_boxes_.emplace_back(b.lo, b.hi);
     // Static parts never move: their world box (the very value a state
     // would compute with the identity) is computed here once.
