@@ -13,7 +13,11 @@
 namespace plancheck {
 
 void BuiltAhead::build(const std::filesystem::path& model, double length_scale, const std::atomic<bool>& stop) {
-  std::vector<Mesh> meshes = drawn_object_meshes(model, length_scale);
+  build([&] { return drawn_object_meshes(model, length_scale); }, stop);
+}
+
+void BuiltAhead::build(const std::function<std::vector<Mesh>()>& drawn, const std::atomic<bool>& stop) {
+  std::vector<Mesh> meshes = drawn();
   std::vector<std::size_t> order(meshes.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {

@@ -11,6 +11,7 @@
 #include <atomic>
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -20,10 +21,13 @@ struct CollisionModelData;  // src/geometry/bvh.h
 
 class BuiltAhead {
  public:
-  // Builds the structures of the model's drawn objects (drawn_object_meshes:
-  // 3ds files only), largest first, one at a time, until all are built or
-  // `stop` is true (asked before each). An object that cannot be built (a
-  // face naming a point it lacks) is skipped: no part has its mesh.
+  // Builds the structures of the model's drawn objects (`drawn`, as
+  // SceneOptions::while_importing hands them over), largest first, one at a
+  // time, until all are built or `stop` is true (asked before each). An
+  // object that cannot be built (a face naming a point it lacks) is
+  // skipped: no part has its mesh.
+  void build(const std::function<std::vector<Mesh>()>& drawn, const std::atomic<bool>& stop);
+  // The same from the file (drawn_object_meshes: 3ds files only).
   void build(const std::filesystem::path& model, double length_scale, const std::atomic<bool>& stop);
 
   // The structure built from exactly `mesh` (same vertices bit for bit, same

@@ -103,13 +103,14 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   auto t0 = std::chrono::steady_clock::now();
   log << "plancheck: loading " << args.scene.string() << "\n";
   // With a second thread in the budget, the collision structures of the
-  // model's drawn objects are built while its importer's child runs (on one
-  // core, this process waiting): the checker takes those its parts match.
+  // model's drawn objects are built while it is imported (beside assimp's
+  // child, or beside the native 3ds reader's part tree, from the objects it
+  // has read): the checker takes those its parts match.
   BuiltAhead ahead;
   SceneOptions scene_options = args.scene_options;
   if (info.threads >= 2)
-    scene_options.while_importing = [&ahead](const std::filesystem::path& model, double length_scale,
-                                             const std::atomic<bool>& stop) { ahead.build(model, length_scale, stop); };
+    scene_options.while_importing = [&ahead](const std::function<std::vector<Mesh>()>& drawn,
+                                             const std::atomic<bool>& stop) { ahead.build(drawn, stop); };
   const Scene scene = load_scene(args.scene, scene_options);
   ContinuousOptions options;
   if (args.continuous_tolerance > 0.0) options.tolerance = args.continuous_tolerance * scene.length_scale;

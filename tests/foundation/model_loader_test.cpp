@@ -824,23 +824,33 @@ TEST(ModelLoader3ds, StructuresBuiltAheadMatchOnlyPartsThatAreTheirObject) {
 
 // load_model's `meanwhile` runs while the child imports and has returned
 // when load_model does; in-process imports run nothing beside.
+// Its `drawn` gives the file's drawn_object_meshes.
 TEST(ModelLoader3ds, MeanwhileThreadRunsBesideTheImportOnly) {
   const auto file = kAssimpModels / "3DS" / "fels.3ds";
   bool ran = false, stopped = false;
+  std::vector<Mesh> drawn;
   Scene s;
-  load_model(file, 1.0, s, {}, [&](const std::atomic<bool>& stop) {
+  load_model(file, 0.5, s, {}, [&](const DrawnMeshes& meshes, const std::atomic<bool>& stop) {
     ran = true;
+    drawn = meshes();
     while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     stopped = true;
   });
   EXPECT_TRUE(ran);
   EXPECT_TRUE(stopped);
   EXPECT_FALSE(s.parts.empty());
+  const std::vector<Mesh> expected = drawn_object_meshes(file, 0.5);
+  ASSERT_FALSE(expected.empty());
+  ASSERT_EQ(drawn.size(), expected.size());
+  for (std::size_t i = 0; i < drawn.size(); ++i) {
+    EXPECT_EQ(drawn[i].vertices, expected[i].vertices);
+    EXPECT_EQ(drawn[i].triangles, expected[i].triangles);
+  }
   IsolationLimits inside;
   inside.isolate = false;
   ran = false;
   Scene t;
-  load_model(file, 1.0, t, inside, [&](const std::atomic<bool>&) { ran = true; });
+  load_model(file, 1.0, t, inside, [&](const DrawnMeshes&, const std::atomic<bool>&) { ran = true; });
   EXPECT_FALSE(ran);
   EXPECT_EQ(t.parts.size(), s.parts.size());
 }
