@@ -118,9 +118,19 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   // static ones, largest first so the last jobs are short; a static part
   // waits for the pruning, which decides its mesh. Nothing waits for the
   // pruning to start the ray scene or the moving parts, and the queue keeps
-  // both threads busy to its end. A part's box is found beside its BVH.
+  // both threads busy to its end. Without a ray scene (or a second thread)
+  // nothing would run beside the pruning: it runs first, on every thread.
+  // A part's box is found beside its BVH.
   std::vector<Mesh> pruned;
   kept_.resize(meshes.size());
+  const int job_threads = threads > 0 ? threads : hardware_threads();
+  const std::size_t probe_jobs = scene.probes.empty() ? 0 : 1;
+  const std::size_t prune_jobs = probe_jobs > 0 && job_threads > 1 ? 1 : 0;
+  std::latch pruning_done(1);
+  if (prune_jobs == 0) {
+    left_out_ = prune_static(scene, meshes, pruned, threads);
+    pruning_done.count_down();
+  }
   const std::size_t part_count = scene.parts.size();  // meshes[part_count]: the terrain's, for pruning only
   std::vector<std::size_t> order(part_count);
   std::iota(order.begin(), order.end(), std::size_t{0});
@@ -130,21 +140,19 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   });
   std::vector<std::optional<CollisionModel>> built(part_count);
   std::vector<Box> boxes(part_count);
-  const std::size_t probe_jobs = scene.probes.empty() ? 0 : 1;
-  const std::size_t jobs = probe_jobs + 1 + part_count;
+  const std::size_t jobs = probe_jobs + prune_jobs + part_count;
   std::atomic<std::size_t> next_job{0};
-  std::latch pruning_done(1);
   const auto run_job = [&](std::size_t job) {
     if (job < probe_jobs) {
       probes_ = std::make_unique<const ProbeCaster>(scene);
-    } else if (job == probe_jobs) {
+    } else if (job < probe_jobs + prune_jobs) {
       struct CountDown {
         std::latch& latch;
         ~CountDown() { latch.count_down(); }  // also when pruning throws: no thread waits forever
       } count_down{pruning_done};
       left_out_ = prune_static(scene, meshes, pruned, 1);
     } else {
-      const std::size_t part = order[job - probe_jobs - 1];
+      const std::size_t part = order[job - probe_jobs - prune_jobs];
       if (chain_of_[part] < 0) pruning_done.wait();
       if (auto data = ahead != nullptr ? ahead->find(*meshes[part]) : nullptr)
         built[part].emplace(std::move(data));  // built from this very mesh (BuiltAhead)
@@ -153,7 +161,6 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
       boxes[part] = mesh_box(*meshes[part]);
     }
   };
-  const int job_threads = threads > 0 ? threads : hardware_threads();
   parallel_for(static_cast<std::size_t>(job_threads), job_threads, 1, [&](std::size_t, std::size_t, int) {
     for (std::size_t job; (job = next_job.fetch_add(1)) < jobs;) run_job(job);
   });
