@@ -13,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace plancheck {
@@ -107,5 +108,23 @@ void parallel_for(std::size_t n, int threads, std::size_t grain,
 }
 
 #endif
+
+BesideJob::BesideJob(std::function<void()> work)
+    : thread_([this, work = std::move(work)] {
+        try {
+          work();
+        } catch (...) {
+          error_ = std::current_exception();
+        }
+      }) {}
+
+BesideJob::~BesideJob() {
+  if (thread_.joinable()) thread_.join();
+}
+
+void BesideJob::wait() {
+  if (thread_.joinable()) thread_.join();
+  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+}
 
 }  // namespace plancheck

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <cstddef>
+#include <exception>
 #include <functional>
+#include <thread>
 
 namespace plancheck {
 
@@ -17,5 +19,23 @@ int hardware_threads();
 // a caller can keep per-thread scratch indexed by it without locks.
 void parallel_for(std::size_t n, int threads, std::size_t grain,
                   const std::function<void(std::size_t begin, std::size_t end, int slot)>& body);
+
+// Runs `work` on a thread of its own, beside the caller, from construction
+// until wait(): for one long job that should start before the caller's own
+// work (and its parallel_for loops) and be joined later. wait() joins and
+// rethrows what `work` threw; the destructor joins too (dropping that), so
+// what `work` reads must outlive this object.
+class BesideJob {
+ public:
+  explicit BesideJob(std::function<void()> work);
+  ~BesideJob();
+  BesideJob(const BesideJob&) = delete;
+  BesideJob& operator=(const BesideJob&) = delete;
+  void wait();
+
+ private:
+  std::exception_ptr error_;
+  std::thread thread_;  // after error_, which it writes
+};
 
 }  // namespace plancheck

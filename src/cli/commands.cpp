@@ -23,6 +23,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace plancheck {
 
@@ -128,16 +129,27 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   plans.reserve(args.plans.size());
   for (const auto& p : args.plans) plans.push_back(load_plan(scene, p));
   const std::string setup = verify_setup(args);
-  const std::string fingerprint = verify_fingerprint(setup, scene, plans);
-  if (merge && merge->first().fingerprint != fingerprint)
-    fail(merge->first().file, "merge: the scene or the plans read now differ from those the shards checked "
-                              "(files changed since, or merge run from another folder)");
+  // The fingerprint hashes every byte the run reads (some 20 MB on the
+  // default scene, one byte at a time): merge compares it now, a run needs
+  // it only once checking starts (the journal's header), so with a second
+  // thread it is computed beside the collision structures.
+  std::string fingerprint;
+  std::optional<BesideJob> fingerprinting;
+  if (merge || info.threads < 2) {
+    fingerprint = verify_fingerprint(setup, scene, plans);
+    if (merge && merge->first().fingerprint != fingerprint)
+      fail(merge->first().file, "merge: the scene or the plans read now differ from those the shards checked "
+                                "(files changed since, or merge run from another folder)");
+  } else {
+    fingerprinting.emplace([&] { fingerprint = verify_fingerprint(setup, scene, plans); });
+  }
   info.load_seconds = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
   log << "plancheck: building collision structures\n";
   const Checker checker(scene, info.threads, &ahead);
   ahead = BuiltAhead();  // the checker shares what it took; the rest (pruned parts) is not kept
+  if (fingerprinting) fingerprinting->wait();
   info.build_seconds = seconds_since(t0);
   info.left_out_static_triangles = checker.left_out_static_triangles();
 
