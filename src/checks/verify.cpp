@@ -15,6 +15,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <latch>
 #include <numeric>
 
@@ -270,17 +271,28 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
   });
   for (std::size_t m : movers)
     if (!reach[m].bounded) return 0;  // a partner without a reach bound: keep everything
+  // A static part's partners on chains from one first pivot share their
+  // centre p_1 (on an arm, all of them): each distance to a centre is
+  // computed once per centre, not once per partner (the same expressions,
+  // so the same values).
+  const auto same_centre = [](const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), sizeof(Vec3)) == 0; };
   std::vector<double> part_upper(n, std::numeric_limits<double>::infinity());
   parallel_for(n, threads, 1, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t s = begin; s < end; ++s) {
       if (chain_of_[s] >= 0) continue;
+      std::vector<std::pair<Vec3, double>> nearest_to;  // per distinct centre
       for (int m : partners[s]) {
         const Reach& rm = reach[static_cast<std::size_t>(m)];
-        // (An empty mesh, the dug terrain, gives infinity: no bound from it.)
-        double nearest = std::numeric_limits<double>::infinity();
-        for (const Tri& t : meshes[s]->triangles)
-          for (std::uint32_t v : t) nearest = std::min(nearest, (meshes[s]->vertices[v] - rm.centre).norm());
-        part_upper[s] = std::min(part_upper[s], rm.r_min + nearest);
+        auto it = std::find_if(nearest_to.begin(), nearest_to.end(),
+                               [&](const auto& e) { return same_centre(e.first, rm.centre); });
+        if (it == nearest_to.end()) {
+          // (An empty mesh, the dug terrain, gives infinity: no bound from it.)
+          double nearest = std::numeric_limits<double>::infinity();
+          for (const Tri& t : meshes[s]->triangles)
+            for (std::uint32_t v : t) nearest = std::min(nearest, (meshes[s]->vertices[v] - rm.centre).norm());
+          it = nearest_to.insert(nearest_to.end(), {rm.centre, nearest});
+        }
+        part_upper[s] = std::min(part_upper[s], rm.r_min + it->second);
       }
     }
   });
@@ -294,6 +306,20 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
     for (std::size_t s = begin; s < end; ++s) {
       if (chain_of_[s] >= 0 || static_cast<int>(s) == terrain_index_) continue;  // the heightfield culls itself
       const Mesh& mesh = *meshes[s];
+      // The partners by centre, each centre with its partners' largest
+      // r_max: the gap below only shrinks as r_max grows (rounding is
+      // monotone), so a triangle is needed by some partner of a centre
+      // exactly when it is needed by the one of largest r_max.
+      std::vector<std::pair<Vec3, double>> widest;
+      for (int m : partners[s]) {
+        const Reach& rm = reach[static_cast<std::size_t>(m)];
+        auto it = std::find_if(widest.begin(), widest.end(),
+                               [&](const auto& e) { return same_centre(e.first, rm.centre); });
+        if (it == widest.end())
+          widest.emplace_back(rm.centre, rm.r_max);
+        else
+          it->second = std::max(it->second, rm.r_max);
+      }
       std::vector<std::uint32_t> keep;
       for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const Tri& tri = mesh.triangles[t];
@@ -303,9 +329,8 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
         double rho = 0.0;
         for (std::uint32_t v : tri) rho = std::max(rho, (mesh.vertices[v] - c).norm());
         bool needed = false;
-        for (int m : partners[s]) {
-          const Reach& rm = reach[static_cast<std::size_t>(m)];
-          const double gap = (c - rm.centre).norm() - rho - rm.r_max;
+        for (const auto& [centre, r_max] : widest) {
+          const double gap = (c - centre).norm() - rho - r_max;
           if (!(gap * (1.0 - 1e-9) > limit)) {
             needed = true;
             break;
