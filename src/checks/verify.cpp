@@ -12,7 +12,6 @@
 #include "src/scene/terrain.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -142,7 +141,6 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   std::vector<std::optional<CollisionModel>> built(part_count);
   std::vector<Box> boxes(part_count);
   const std::size_t jobs = probe_jobs + prune_jobs + part_count;
-  std::atomic<std::size_t> next_job{0};
   const auto run_job = [&](std::size_t job) {
     if (job < probe_jobs) {
       probes_ = std::make_unique<const ProbeCaster>(scene);
@@ -162,9 +160,7 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
       boxes[part] = mesh_box(*meshes[part]);
     }
   };
-  parallel_for(static_cast<std::size_t>(job_threads), job_threads, 1, [&](std::size_t, std::size_t, int) {
-    for (std::size_t job; (job = next_job.fetch_add(1)) < jobs;) run_job(job);
-  });
+  run_queue(jobs, job_threads, run_job);
   for (auto& m : built) models_.push_back(std::move(*m));
   for (PairRef& p : pairs_)
     p.empty = models_[static_cast<std::size_t>(p.a)].triangle_count() == 0 ||

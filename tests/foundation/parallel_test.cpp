@@ -126,5 +126,34 @@ TEST(Parallel, BesideJobRunsBesideTheCallersLoops) {
   EXPECT_TRUE(ran);
 }
 
+// run_queue: every job runs once, on at most `threads` threads at a time,
+// also when the first (longest) job holds one thread throughout; a job's
+// exception comes back after the other threads are done.
+TEST(Parallel, RunQueueThreadsTakeEveryJobOnce) {
+  for (int threads : {1, 2, 3}) {
+    std::vector<std::atomic<int>> hits(200);
+    std::atomic<int> running{0}, most{0};
+    run_queue(hits.size(), threads, [&](std::size_t j) {
+      const int now = ++running;
+      for (int m = most.load(); now > m && !most.compare_exchange_weak(m, now);) {
+      }
+      if (j == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      ++hits[j];
+      --running;
+    });
+    for (std::size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << "job " << i << ", " << threads << " threads";
+    EXPECT_LE(most.load(), threads);
+  }
+  std::atomic<int> ran{0};
+  EXPECT_THROW(run_queue(50, 2,
+                         [&](std::size_t j) {
+                           ++ran;
+                           if (j == 3) throw std::runtime_error("job 3");
+                         }),
+               std::runtime_error);
+  EXPECT_GE(ran.load(), 4);
+  run_queue(0, 2, [](std::size_t) { FAIL() << "no jobs"; });
+}
+
 }  // namespace
 }  // namespace plancheck
