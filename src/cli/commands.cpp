@@ -104,14 +104,16 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   auto t0 = std::chrono::steady_clock::now();
   log << "plancheck: loading " << args.scene.string() << "\n";
   // With a second thread in the budget, the collision structures of the
-  // model's drawn objects are built while it is imported (beside assimp's
-  // child, or beside the native 3ds reader's part tree, from the objects it
-  // has read): the checker takes those its parts match.
+  // model's drawn objects are built from the time it is imported (beside
+  // assimp's child, or beside the native 3ds reader's part tree, from the
+  // objects it has read) on a thread of their own, which goes on beside the
+  // checker until every object is built or claimed by it: the checker takes
+  // those its parts match, waits for one in hand, builds the others itself.
   BuiltAhead ahead;
   SceneOptions scene_options = args.scene_options;
   if (info.threads >= 2)
     scene_options.while_importing = [&ahead](const std::function<std::vector<Mesh>()>& drawn,
-                                             const std::atomic<bool>& stop) { ahead.build(drawn, stop); };
+                                             const std::atomic<bool>&) { ahead.start(drawn); };
   const Scene scene = load_scene(args.scene, scene_options);
   ContinuousOptions options;
   if (args.continuous_tolerance > 0.0) options.tolerance = args.continuous_tolerance * scene.length_scale;
@@ -148,7 +150,7 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   t0 = std::chrono::steady_clock::now();
   log << "plancheck: building collision structures\n";
   const Checker checker(scene, info.threads, &ahead);
-  ahead = BuiltAhead();  // the checker shares what it took; the rest (pruned parts) is not kept
+  ahead.finish();  // the checker shares what it took; the rest (pruned parts) is not kept
   if (fingerprinting) fingerprinting->wait();
   info.build_seconds = seconds_since(t0);
   info.left_out_static_triangles = checker.left_out_static_triangles();

@@ -4,6 +4,7 @@
 // Collada counts), never from the loader's own output.
 #include "src/scene/model_loader.h"
 #include "src/checks/built_ahead.h"
+#include "src/base/parallel.h"
 #include "src/geometry/bvh.h"
 
 #include "tests/foundation/fixtures.h"
@@ -818,6 +819,36 @@ TEST(ModelLoader3ds, StructuresBuiltAheadMatchOnlyPartsThatAreTheirObject) {
       const auto p = built.find(part.mesh);
       if (p == nullptr) continue;
       EXPECT_EQ(p->bvh.prim_ids, build_collision_data(part.mesh).bvh.prim_ids);
+    }
+  }
+}
+
+// BuiltAhead::start builds on a thread of its own past the import while
+// checkers' threads ask for their parts: each gets either the structure of
+// its very mesh (built ahead, or waited for while in hand) or null (an
+// object not yet started is claimed, and never built ahead after that).
+TEST(ModelLoader3ds, StructuresBuiltAheadOnTheirOwnThreadAreTakenOrClaimed) {
+  for (const char* name : {"fels.3ds", "test1.3ds", "CameraRollAnimWithChildObject.3ds"}) {
+    SCOPED_TRACE(name);
+    const auto file = kAssimpModels / "3DS" / name;
+    Scene m;
+    load_model(file, 1.0, m);
+    for (int round = 0; round < 4; ++round) {
+      BuiltAhead ahead;
+      ahead.start([&] { return drawn_object_meshes(file, 1.0); });
+      if (round % 2) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      std::vector<std::shared_ptr<const CollisionModelData>> found(m.parts.size());
+      run_queue(m.parts.size(), 2, [&](std::size_t p) { found[p] = ahead.find(m.parts[p].mesh); });
+      const std::size_t built = ahead.size();
+      ahead.finish();
+      std::size_t taken = 0;
+      for (std::size_t p = 0; p < m.parts.size(); ++p) {
+        if (found[p] == nullptr) continue;
+        ++taken;
+        EXPECT_EQ(found[p]->bvh.prim_ids, build_collision_data(m.parts[p].mesh).bvh.prim_ids) << m.parts[p].name;
+      }
+      EXPECT_LE(taken, built);
+      EXPECT_EQ(ahead.find(m.parts[0].mesh), nullptr);  // finish() lets go of everything
     }
   }
 }
