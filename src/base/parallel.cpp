@@ -13,6 +13,7 @@
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace plancheck {
@@ -107,5 +108,48 @@ void parallel_for(std::size_t n, int threads, std::size_t grain,
 }
 
 #endif
+
+void run_queue(std::size_t jobs, int threads, const std::function<void(std::size_t job)>& job) {
+  if (threads <= 0) threads = hardware_threads();
+  std::atomic<std::size_t> next{0};
+  const auto drain = [&] {
+    for (std::size_t j; (j = next.fetch_add(1)) < jobs;) job(j);
+  };
+  std::vector<std::unique_ptr<BesideJob>> helpers;
+  const std::size_t more = std::min<std::size_t>(static_cast<std::size_t>(threads - 1), jobs > 0 ? jobs - 1 : 0);
+  for (std::size_t t = 0; t < more; ++t) helpers.push_back(std::make_unique<BesideJob>(drain));
+  std::exception_ptr error;
+  try {
+    drain();
+  } catch (...) {
+    error = std::current_exception();
+  }
+  for (auto& h : helpers) {
+    try {
+      h->wait();
+    } catch (...) {
+      if (!error) error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+BesideJob::BesideJob(std::function<void()> work)
+    : thread_([this, work = std::move(work)] {
+        try {
+          work();
+        } catch (...) {
+          error_ = std::current_exception();
+        }
+      }) {}
+
+BesideJob::~BesideJob() {
+  if (thread_.joinable()) thread_.join();
+}
+
+void BesideJob::wait() {
+  if (thread_.joinable()) thread_.join();
+  if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+}
 
 }  // namespace plancheck

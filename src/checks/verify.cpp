@@ -14,6 +14,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
+#include <latch>
 #include <numeric>
 
 namespace plancheck {
@@ -107,29 +109,58 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
     }
   }
 
-  // Leave out static triangles no moving part can reach (kept_ maps back).
+  // The structures are jobs of one queue, taken in this order by the
+  // threads as they come free: the probes' ray scene (Embree's BVH over the
+  // static parts, from the scene alone: the longest job, so first), then
+  // leaving out the static triangles no moving part can reach (kept_ maps
+  // back; one thread's job, beside the ray scene), then each part's BVH,
+  // the moving parts first (they do not depend on the pruning), then the
+  // static ones, largest first so the last jobs are short; a static part
+  // waits for the pruning, which decides its mesh. Nothing waits for the
+  // pruning to start the ray scene or the moving parts, and the queue keeps
+  // both threads busy to its end. Without a ray scene (or a second thread)
+  // nothing would run beside the pruning: it runs first, on every thread.
+  // A part's box is found beside its BVH.
   std::vector<Mesh> pruned;
   kept_.resize(meshes.size());
-  left_out_ = prune_static(scene, meshes, pruned, threads);
-
-  // Build the per-part structures in parallel: parts are independent.
-  if (terrain) meshes.pop_back();  // the heightfield above is the terrain's structure
-  // The probes' ray scene (Embree's BVH over the static parts, from the
-  // scene alone) is one more job beside them, the first one taken: it is
-  // the longest, and within the same thread budget (its own parallel
-  // building runs in the same pool).
-  std::vector<std::optional<CollisionModel>> built(meshes.size());
-  const std::size_t first_model = scene.probes.empty() ? 0 : 1;
-  parallel_for(first_model + meshes.size(), threads, 1, [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t i = begin; i < end; ++i) {
-      if (i < first_model)
-        probes_ = std::make_unique<const ProbeCaster>(scene);
-      else if (auto data = ahead != nullptr ? ahead->find(*meshes[i - first_model]) : nullptr)
-        built[i - first_model].emplace(std::move(data));  // built from this very mesh (BuiltAhead)
-      else
-        built[i - first_model].emplace(*meshes[i - first_model]);
-    }
+  const int job_threads = threads > 0 ? threads : hardware_threads();
+  const std::size_t probe_jobs = scene.probes.empty() ? 0 : 1;
+  const std::size_t prune_jobs = probe_jobs > 0 && job_threads > 1 ? 1 : 0;
+  std::latch pruning_done(1);
+  if (prune_jobs == 0) {
+    left_out_ = prune_static(scene, meshes, pruned, threads);
+    pruning_done.count_down();
+  }
+  const std::size_t part_count = scene.parts.size();  // meshes[part_count]: the terrain's, for pruning only
+  std::vector<std::size_t> order(part_count);
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if ((chain_of_[a] >= 0) != (chain_of_[b] >= 0)) return chain_of_[a] >= 0;
+    return meshes[a]->triangles.size() > meshes[b]->triangles.size();
   });
+  std::vector<std::optional<CollisionModel>> built(part_count);
+  std::vector<Box> boxes(part_count);
+  const std::size_t jobs = probe_jobs + prune_jobs + part_count;
+  const auto run_job = [&](std::size_t job) {
+    if (job < probe_jobs) {
+      probes_ = std::make_unique<const ProbeCaster>(scene);
+    } else if (job < probe_jobs + prune_jobs) {
+      struct CountDown {
+        std::latch& latch;
+        ~CountDown() { latch.count_down(); }  // also when pruning throws: no thread waits forever
+      } count_down{pruning_done};
+      left_out_ = prune_static(scene, meshes, pruned, 1);
+    } else {
+      const std::size_t part = order[job - probe_jobs - prune_jobs];
+      if (chain_of_[part] < 0) pruning_done.wait();
+      if (auto data = ahead != nullptr ? ahead->find(*meshes[part]) : nullptr)
+        built[part].emplace(std::move(data));  // built from this very mesh (BuiltAhead)
+      else
+        built[part].emplace(*meshes[part]);
+      boxes[part] = mesh_box(*meshes[part]);
+    }
+  };
+  run_queue(jobs, job_threads, run_job);
   for (auto& m : built) models_.push_back(std::move(*m));
   for (PairRef& p : pairs_)
     p.empty = models_[static_cast<std::size_t>(p.a)].triangle_count() == 0 ||
@@ -152,8 +183,7 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   }
   for (std::size_t i = 0; i < in_pair.size(); ++i)
     if (in_pair[i]) guard_parts_.push_back(static_cast<int>(i));
-  for (const Mesh* m : meshes) {
-    const Box b = mesh_box(*m);
+  for (const Box& b : boxes) {
     local_boxes_.emplace_back(b.lo, b.hi);
     // Static parts never move: their world box (the very value a state
     // would compute with the identity) is computed here once.
@@ -237,17 +267,28 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
   });
   for (std::size_t m : movers)
     if (!reach[m].bounded) return 0;  // a partner without a reach bound: keep everything
+  // A static part's partners on chains from one first pivot share their
+  // centre p_1 (on an arm, all of them): each distance to a centre is
+  // computed once per centre, not once per partner (the same expressions,
+  // so the same values).
+  const auto same_centre = [](const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), sizeof(Vec3)) == 0; };
   std::vector<double> part_upper(n, std::numeric_limits<double>::infinity());
   parallel_for(n, threads, 1, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t s = begin; s < end; ++s) {
       if (chain_of_[s] >= 0) continue;
+      std::vector<std::pair<Vec3, double>> nearest_to;  // per distinct centre
       for (int m : partners[s]) {
         const Reach& rm = reach[static_cast<std::size_t>(m)];
-        // (An empty mesh, the dug terrain, gives infinity: no bound from it.)
-        double nearest = std::numeric_limits<double>::infinity();
-        for (const Tri& t : meshes[s]->triangles)
-          for (std::uint32_t v : t) nearest = std::min(nearest, (meshes[s]->vertices[v] - rm.centre).norm());
-        part_upper[s] = std::min(part_upper[s], rm.r_min + nearest);
+        auto it = std::find_if(nearest_to.begin(), nearest_to.end(),
+                               [&](const auto& e) { return same_centre(e.first, rm.centre); });
+        if (it == nearest_to.end()) {
+          // (An empty mesh, the dug terrain, gives infinity: no bound from it.)
+          double nearest = std::numeric_limits<double>::infinity();
+          for (const Tri& t : meshes[s]->triangles)
+            for (std::uint32_t v : t) nearest = std::min(nearest, (meshes[s]->vertices[v] - rm.centre).norm());
+          it = nearest_to.insert(nearest_to.end(), {rm.centre, nearest});
+        }
+        part_upper[s] = std::min(part_upper[s], rm.r_min + it->second);
       }
     }
   });
@@ -261,6 +302,20 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
     for (std::size_t s = begin; s < end; ++s) {
       if (chain_of_[s] >= 0 || static_cast<int>(s) == terrain_index_) continue;  // the heightfield culls itself
       const Mesh& mesh = *meshes[s];
+      // The partners by centre, each centre with its partners' largest
+      // r_max: the gap below only shrinks as r_max grows (rounding is
+      // monotone), so a triangle is needed by some partner of a centre
+      // exactly when it is needed by the one of largest r_max.
+      std::vector<std::pair<Vec3, double>> widest;
+      for (int m : partners[s]) {
+        const Reach& rm = reach[static_cast<std::size_t>(m)];
+        auto it = std::find_if(widest.begin(), widest.end(),
+                               [&](const auto& e) { return same_centre(e.first, rm.centre); });
+        if (it == widest.end())
+          widest.emplace_back(rm.centre, rm.r_max);
+        else
+          it->second = std::max(it->second, rm.r_max);
+      }
       std::vector<std::uint32_t> keep;
       for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
         const Tri& tri = mesh.triangles[t];
@@ -270,9 +325,8 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
         double rho = 0.0;
         for (std::uint32_t v : tri) rho = std::max(rho, (mesh.vertices[v] - c).norm());
         bool needed = false;
-        for (int m : partners[s]) {
-          const Reach& rm = reach[static_cast<std::size_t>(m)];
-          const double gap = (c - rm.centre).norm() - rho - rm.r_max;
+        for (const auto& [centre, r_max] : widest) {
+          const double gap = (c - centre).norm() - rho - r_max;
           if (!(gap * (1.0 - 1e-9) > limit)) {
             needed = true;
             break;

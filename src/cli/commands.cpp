@@ -23,6 +23,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace plancheck {
 
@@ -103,13 +104,16 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   auto t0 = std::chrono::steady_clock::now();
   log << "plancheck: loading " << args.scene.string() << "\n";
   // With a second thread in the budget, the collision structures of the
-  // model's drawn objects are built while its importer's child runs (on one
-  // core, this process waiting): the checker takes those its parts match.
+  // model's drawn objects are built from the time it is imported (beside
+  // assimp's child, or beside the native 3ds reader's part tree, from the
+  // objects it has read) on a thread of their own, which goes on beside the
+  // checker until every object is built or claimed by it: the checker takes
+  // those its parts match, waits for one in hand, builds the others itself.
   BuiltAhead ahead;
   SceneOptions scene_options = args.scene_options;
   if (info.threads >= 2)
-    scene_options.while_importing = [&ahead](const std::filesystem::path& model, double length_scale,
-                                             const std::atomic<bool>& stop) { ahead.build(model, length_scale, stop); };
+    scene_options.while_importing = [&ahead](const std::function<std::vector<Mesh>()>& drawn,
+                                             const std::atomic<bool>&) { ahead.start(drawn); };
   const Scene scene = load_scene(args.scene, scene_options);
   ContinuousOptions options;
   if (args.continuous_tolerance > 0.0) options.tolerance = args.continuous_tolerance * scene.length_scale;
@@ -127,16 +131,27 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   plans.reserve(args.plans.size());
   for (const auto& p : args.plans) plans.push_back(load_plan(scene, p));
   const std::string setup = verify_setup(args);
-  const std::string fingerprint = verify_fingerprint(setup, scene, plans);
-  if (merge && merge->first().fingerprint != fingerprint)
-    fail(merge->first().file, "merge: the scene or the plans read now differ from those the shards checked "
-                              "(files changed since, or merge run from another folder)");
+  // The fingerprint hashes every byte the run reads (some 20 MB on the
+  // default scene, one byte at a time): merge compares it now, a run needs
+  // it only once checking starts (the journal's header), so with a second
+  // thread it is computed beside the collision structures.
+  std::string fingerprint;
+  std::optional<BesideJob> fingerprinting;
+  if (merge || info.threads < 2) {
+    fingerprint = verify_fingerprint(setup, scene, plans);
+    if (merge && merge->first().fingerprint != fingerprint)
+      fail(merge->first().file, "merge: the scene or the plans read now differ from those the shards checked "
+                                "(files changed since, or merge run from another folder)");
+  } else {
+    fingerprinting.emplace([&] { fingerprint = verify_fingerprint(setup, scene, plans); });
+  }
   info.load_seconds = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
   log << "plancheck: building collision structures\n";
   const Checker checker(scene, info.threads, &ahead);
-  ahead = BuiltAhead();  // the checker shares what it took; the rest (pruned parts) is not kept
+  ahead.finish();  // the checker shares what it took; the rest (pruned parts) is not kept
+  if (fingerprinting) fingerprinting->wait();
   info.build_seconds = seconds_since(t0);
   info.left_out_static_triangles = checker.left_out_static_triangles();
 

@@ -267,6 +267,34 @@ void compute_node_obbs(CollisionModelData& data) {
       mi.end = std::max(l.end, r.end);
     }
   }
+  // Each node projects its vertices onto its axes, at every level of the
+  // tree. Its slots name each vertex ~6 times on a closed mesh (three
+  // corners, each vertex shared by ~6 triangles); projecting each vertex
+  // once gives the same minimum and maximum (the same values, visited in
+  // another order; only the sign of a zero could differ, and it is lost
+  // below: the centre adds 0.5 (lo + hi) to a sum that starts at +0, the
+  // half extents add a positive margin). That needs build_collision_data's
+  // numbering (vertices in order of first use by the slots, every vertex
+  // used): the vertices first used within the slots [b, e) are then the
+  // index range [first_new[b], first_new[e]), and any other corner there
+  // has an index below first_new[b]. Other numberings project every corner.
+  std::vector<std::uint32_t> first_new(data.triangle_count() + 1, 0);
+  bool first_use = true;
+  {
+    std::uint32_t seen = 0;
+    for (std::size_t s = 0; s < data.triangle_count() && first_use; ++s) {
+      first_new[s] = seen;
+      for (int v = 0; v < 3; ++v) {
+        const std::uint32_t c = data.corners[s][static_cast<std::size_t>(v)];
+        if (c == seen)
+          ++seen;
+        else if (c > seen)
+          first_use = false;
+      }
+    }
+    first_new[data.triangle_count()] = seen;
+    first_use = first_use && seen == data.vertices.size();
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const Moments& mi = m[i];
     const Eigen::Vector3d mean(mi.sum[0] / mi.count, mi.sum[1] / mi.count, mi.sum[2] / mi.count);
@@ -298,15 +326,25 @@ void compute_node_obbs(CollisionModelData& data) {
       lo[k] = std::numeric_limits<double>::infinity();
       hi[k] = -std::numeric_limits<double>::infinity();
     }
-    for (std::uint32_t s = mi.begin; s < mi.end; ++s)
-      for (int v = 0; v < 3; ++v) {
-        const double* x = data.vertex(s, v);
-        for (int k = 0; k < 3; ++k) {
-          const double p = axes[k][0] * x[0] + axes[k][1] * x[1] + axes[k][2] * x[2];
-          lo[k] = std::min(lo[k], p);
-          hi[k] = std::max(hi[k], p);
-        }
+    const auto project = [&](const double* x) {
+      for (int k = 0; k < 3; ++k) {
+        const double p = axes[k][0] * x[0] + axes[k][1] * x[1] + axes[k][2] * x[2];
+        lo[k] = std::min(lo[k], p);
+        hi[k] = std::max(hi[k], p);
       }
+    };
+    if (first_use) {
+      const std::uint32_t new_begin = first_new[mi.begin], new_end = first_new[mi.end];
+      for (std::uint32_t c = new_begin; c < new_end; ++c) project(data.vertices[c].data());
+      for (std::uint32_t s = mi.begin; s < mi.end; ++s)
+        for (int v = 0; v < 3; ++v) {
+          const std::uint32_t c = data.corners[s][static_cast<std::size_t>(v)];
+          if (c < new_begin) project(data.vertices[c].data());
+        }
+    } else {
+      for (std::uint32_t s = mi.begin; s < mi.end; ++s)
+        for (int v = 0; v < 3; ++v) project(data.vertex(s, v));
+    }
     NodeObb& o = data.obbs[i];
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
     double extent = 0.0;

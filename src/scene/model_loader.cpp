@@ -115,20 +115,36 @@ struct Pending {
   std::vector<PendingMesh> meshes;
 };
 
+// The objects as drawn_object_meshes gives them (model_loader.h): points
+// times `length_scale` in file order, faces in file order.
+std::vector<Mesh> object_meshes(const std::vector<TdsObject>& objects, double length_scale) {
+  std::vector<Mesh> meshes;
+  meshes.reserve(objects.size());
+  for (const TdsObject& object : objects) {
+    Mesh mesh;
+    mesh.vertices.reserve(object.points.size());
+    for (const Vec3& point : object.points) mesh.vertices.push_back(point * length_scale);
+    mesh.triangles.reserve(object.faces.size());
+    for (const auto& f : object.faces) mesh.triangles.push_back({f[0], f[1], f[2]});
+    meshes.push_back(std::move(mesh));
+  }
+  return meshes;
+}
+
 class Builder {
  public:
   Builder(const aiScene& ai, const std::filesystem::path& file, double scale, Scene& scene, bool unique_names)
       : ai_(ai), file_(file), scale_(scale), scene_(scene), unique_names_(unique_names) {}
 
   // The 3ds objects as already read (the native path), instead of reading
-  // the file again.
-  void use_objects(std::vector<TdsObject> objects) {
-    tds_objects_ = std::move(objects);
-    objects_given_ = true;
-  }
+  // the file again; they must outlive this builder.
+  void use_objects(const std::vector<TdsObject>& objects) { objects_ = &objects; }
 
   void build() {
-    if (is_3ds(file_) && !objects_given_) tds_objects_ = read_tds_objects(file_);
+    if (is_3ds(file_) && objects_ == nullptr) {
+      own_objects_ = read_tds_objects(file_);
+      objects_ = &own_objects_;
+    }
     const aiNode* root = ai_.mRootNode;
     Mat4 root_global = to_eigen(root->mTransformation);
     if (is_3ds(file_)) {
@@ -161,13 +177,13 @@ class Builder {
       if (used_meshes_.count(m)) continue;
       const aiMesh* mesh = ai_.mMeshes[m];
       const int object = tds_object_of(*mesh);
-      std::string name = object >= 0 ? tds_objects_[object].name : std::string(mesh->mName.C_Str());
+      std::string name = object >= 0 ? (*objects_)[object].name : std::string(mesh->mName.C_Str());
       if (name.empty()) name = "unattached_mesh_" + std::to_string(m);
       auto [it, added] = by_name.try_emplace(name, 0);
       if (added) it->second = add_node(name, root_index, root_global);
       PendingMesh pm{mesh, root_global, nullptr, {}};
-      if (object >= 0 && match_drawn_faces(*mesh, tds_objects_[object], pm.object_faces))
-        pm.object = &tds_objects_[object];
+      if (object >= 0 && match_drawn_faces(*mesh, (*objects_)[object], pm.object_faces))
+        pm.object = &(*objects_)[object];
       pending_[it->second].meshes.push_back(std::move(pm));
       used_meshes_.insert(m);
       ++kept;
@@ -199,9 +215,9 @@ class Builder {
       // instance ("Name_inst_2") exists only in the keyframer, so it keeps
       // assimp's keyframer pose.
       const int object = tds_object_of(*pm.mesh);
-      if (object >= 0 && (flat_3ds || tds_objects_[object].name == node->mName.C_Str()) &&
-          match_drawn_faces(*pm.mesh, tds_objects_[object], pm.object_faces)) {
-        pm.object = &tds_objects_[object];
+      if (object >= 0 && (flat_3ds || (*objects_)[object].name == node->mName.C_Str()) &&
+          match_drawn_faces(*pm.mesh, (*objects_)[object], pm.object_faces)) {
+        pm.object = &(*objects_)[object];
       }
       pending_[target].meshes.push_back(std::move(pm));
     }
@@ -212,7 +228,7 @@ class Builder {
     const char* name = mesh.mName.C_Str();
     char* end = nullptr;
     const unsigned long object = std::strtoul(name, &end, 10);
-    if (*name == '\0' || *end != '\0' || object >= tds_objects_.size()) return -1;
+    if (*name == '\0' || *end != '\0' || objects_ == nullptr || object >= objects_->size()) return -1;
     return static_cast<int>(object);
   }
 
@@ -288,7 +304,7 @@ class Builder {
       std::string name = child->mName.C_Str();
       if (child->mNumMeshes > 0) {
         const int object = tds_object_of(*ai_.mMeshes[child->mMeshes[0]]);
-        if (object >= 0) name = tds_objects_[object].name;
+        if (object >= 0) name = (*objects_)[object].name;
       }
       auto found = by_object.find(name);
       int index;
@@ -384,8 +400,8 @@ class Builder {
   Scene& scene_;
   bool unique_names_;
   std::vector<Pending> pending_;
-  std::vector<TdsObject> tds_objects_;  // 3ds files only
-  bool objects_given_ = false;
+  std::vector<TdsObject> own_objects_;                // read here when not given
+  const std::vector<TdsObject>* objects_ = nullptr;  // 3ds files only: the objects read
   std::set<unsigned> used_meshes_;
 };
 
@@ -573,16 +589,21 @@ class NativeScene {
 // assimp's child (run_isolated: stopped once the part tree is built, joined
 // before this returns or throws, what it throws dropped).
 bool import_native(const std::filesystem::path& model, double length_scale, Scene& scene, bool unique_names,
-                   const std::function<void(const std::atomic<bool>& stop)>& meanwhile) {
+                   const WhileImporting& meanwhile) {
   if (!is_3ds(model)) return false;
   std::optional<TdsFile> file = read_3ds_strict(model);
   if (!file) return false;
-  const SideWork side(meanwhile);
+  // The objects as read serve the part tree and `meanwhile` both (read on
+  // both threads, changed on neither; `side` joins before they go).
+  const std::vector<TdsObject>& objects = file->objects;
+  const SideWork side(meanwhile ? [&](const std::atomic<bool>& stop) {
+    meanwhile([&] { return object_meshes(objects, length_scale); }, stop);
+  } : std::function<void(const std::atomic<bool>&)>());
   Scene imported;
   {
     const NativeScene ai(*file);
     Builder builder(ai.scene(), model, length_scale, imported, unique_names);
-    builder.use_objects(std::move(file->objects));
+    builder.use_objects(objects);
     builder.build();
   }
   scene.nodes = std::move(imported.nodes);
@@ -594,34 +615,27 @@ bool import_native(const std::filesystem::path& model, double length_scale, Scen
 // load_model's and load_mesh's import: the part tree built in assimp's child
 // process, checked on its way back.
 void import_checked(const std::filesystem::path& model, double length_scale, Scene& scene,
-                    const IsolationLimits& limits, bool unique_names,
-                    const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {}) {
+                    const IsolationLimits& limits, bool unique_names, const WhileImporting& meanwhile = {}) {
   if (limits.native_3ds && import_native(model, length_scale, scene, unique_names, meanwhile)) return;
   import_isolated(
       model, limits,
       [&](const aiScene& ai, Scene& imported) { Builder(ai, model, length_scale, imported, unique_names).build(); },
-      scene, meanwhile);
+      scene,
+      meanwhile ? [&](const std::atomic<bool>& stop) {
+        meanwhile([&] { return drawn_object_meshes(model, length_scale); }, stop);
+      } : std::function<void(const std::atomic<bool>&)>());
 }
 
 }  // namespace
 
 void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
-                const IsolationLimits& limits, const std::function<void(const std::atomic<bool>& stop)>& meanwhile) {
+                const IsolationLimits& limits, const WhileImporting& meanwhile) {
   import_checked(model, length_scale, scene, limits, true, meanwhile);
 }
 
 std::vector<Mesh> drawn_object_meshes(const std::filesystem::path& model, double length_scale) {
-  std::vector<Mesh> meshes;
-  if (!is_3ds(model)) return meshes;
-  for (const TdsObject& object : read_tds_objects(model)) {
-    Mesh mesh;
-    mesh.vertices.reserve(object.points.size());
-    for (const Vec3& point : object.points) mesh.vertices.push_back(point * length_scale);
-    mesh.triangles.reserve(object.faces.size());
-    for (const auto& f : object.faces) mesh.triangles.push_back({f[0], f[1], f[2]});
-    meshes.push_back(std::move(mesh));
-  }
-  return meshes;
+  if (!is_3ds(model)) return {};
+  return object_meshes(read_tds_objects(model), length_scale);
 }
 
 Mesh load_mesh(const std::filesystem::path& model, std::vector<std::string>& warnings,

@@ -25,10 +25,13 @@ namespace plancheck {
 // bits and the same warnings; `limits.native_3ds` false sends it to assimp.
 // `meanwhile` runs in this process on a thread of its own while the child
 // imports (run_isolated) or the native reader builds the part tree: for a
-// caller with work to do ahead (and a core to do it on).
+// caller with work to do ahead (and a core to do it on). Its `drawn` gives
+// the model's drawn_object_meshes (below), made on the caller's thread from
+// the objects the native reader has already read, else read from the file.
+using DrawnMeshes = std::function<std::vector<Mesh>()>;
+using WhileImporting = std::function<void(const DrawnMeshes& drawn, const std::atomic<bool>& stop)>;
 void load_model(const std::filesystem::path& model, double length_scale, Scene& scene,
-                const IsolationLimits& limits = {},
-                const std::function<void(const std::atomic<bool>& stop)>& meanwhile = {});
+                const IsolationLimits& limits = {}, const WhileImporting& meanwhile = {});
 
 // The objects of a 3ds file as drawn, each as one mesh: its points times
 // `length_scale` in file order, its faces in file order (none for other

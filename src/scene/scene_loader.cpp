@@ -581,12 +581,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& scene_js
     const std::string model = r.string(root["model"], "model");
     if (model.empty()) r.error("model", "empty path");
     scene.model_file = scene_json.parent_path() / model;
-    std::function<void(const std::atomic<bool>&)> meanwhile;
-    if (options.while_importing)
-      meanwhile = [&options, file = scene.model_file, scale = scene.length_scale](const std::atomic<bool>& stop) {
-        options.while_importing(file, scale, stop);
-      };
-    load_model(scene.model_file, scene.length_scale, scene, {}, meanwhile);
+    load_model(scene.model_file, scene.length_scale, scene, {}, options.while_importing);
   }
   std::vector<std::pair<int, int>> robot_allowed;
   if (has_robot) {

@@ -9,6 +9,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace plancheck {
 
@@ -19,12 +20,15 @@ struct SceneOptions {
   std::filesystem::path srdf;
   std::map<std::string, std::filesystem::path> packages;
   // Not part of the scene: work a caller (a layer above) wants done while
-  // the scene's model file is imported in its child process, when this
-  // process would only wait. Called on a thread of its own with the model
-  // file and the scene's length scale; `stop` turns true once the import
-  // has answered, and the load waits for it to return. What it throws is
-  // dropped. It takes a core: set it only with a thread budget of 2 or more.
-  std::function<void(const std::filesystem::path& model, double length_scale, const std::atomic<bool>& stop)>
+  // the scene's model file is imported (in its child process, or by the
+  // native 3ds reader), when this process would only wait or has a core to
+  // spare. Called on a thread of its own; `drawn()` gives the model's drawn
+  // objects as meshes (drawn_object_meshes in model_loader.h: from the
+  // objects the import has read, else from the file; none for other
+  // formats); `stop` turns true once the import has answered, and the load
+  // waits for it to return. What it throws is dropped. It takes a core: set
+  // it only with a thread budget of 2 or more.
+  std::function<void(const std::function<std::vector<Mesh>()>& drawn, const std::atomic<bool>& stop)>
       while_importing;
 };
 

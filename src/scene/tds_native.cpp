@@ -194,7 +194,7 @@ class StrictReader {
           o.faces.reserve(n);
           for (unsigned i = 0; i < n; ++i)
             o.faces.push_back({u16(c.body + 2 + 8 * i), u16(c.body + 4 + 8 * i), u16(c.body + 6 + 8 * i)});
-          o.face_material.assign(n, std::string());
+          o.face_material.assign_unassigned(n);
           const std::size_t sub = c.body + 2 + 8 * std::size_t{n};
           if (sub < c.end)
             for_each(

@@ -99,7 +99,7 @@ class TdsReader {
             object->faces.reserve(object->faces.size() + n);
             for (unsigned i = 0; i < n; ++i)
               object->faces.push_back({u16(body + 2 + 8 * i), u16(body + 4 + 8 * i), u16(body + 6 + 8 * i)});
-            object->face_material.assign(n, std::string());
+            object->face_material.assign_unassigned(n);
             walk(body + 2 + 8 * std::size_t{n}, stop, object);  // material groups follow the face list
           }
           break;
@@ -107,11 +107,13 @@ class TdsReader {
           if (object) {
             std::size_t after;
             const std::string material = cstring(body, stop, after);
-            if (has(after, 2, stop) && has(after + 2, 2 * std::size_t{u16(after)}, stop))
+            if (has(after, 2, stop) && has(after + 2, 2 * std::size_t{u16(after)}, stop)) {
+              const std::uint32_t index = object->face_material.intern(material);
               for (unsigned i = 0, n = u16(after); i < n; ++i) {
                 const unsigned face = u16(after + 2 + 2 * i);
-                if (face < object->face_material.size()) object->face_material[face] = material;
+                if (face < object->face_material.size()) object->face_material.set(face, index);
               }
+            }
           }
           break;
         default: break;
@@ -151,6 +153,19 @@ void check_tracks(const std::vector<unsigned char>& b, std::size_t at, std::size
 }
 
 }  // namespace
+
+std::uint32_t FaceMaterials::intern(const std::string& name) {
+  const auto [it, added] = lookup_.try_emplace(name, static_cast<std::uint32_t>(names_.size()));
+  if (added) names_.push_back(name);
+  return it->second;
+}
+
+bool operator==(const FaceMaterials& a, const FaceMaterials& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t f = 0; f < a.size(); ++f)
+    if (a[f] != b[f]) return false;
+  return true;
+}
 
 bool is_3ds(const std::filesystem::path& file) {
   std::string ext = file.extension().string();

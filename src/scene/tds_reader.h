@@ -7,7 +7,9 @@
 #include "src/scene/scene.h"
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -16,13 +18,34 @@ namespace plancheck {
 // True when the file name ends in ".3ds", in any case.
 bool is_3ds(const std::filesystem::path& file);
 
+// Each face's material name ("" if none), read like a vector of names. A
+// name is kept once and a face holds its index: a string per face made
+// hundreds of thousands of empty strings on a large model (32 bytes each,
+// built, touched and freed on the way to the first answer).
+class FaceMaterials {
+ public:
+  std::size_t size() const { return index_.size(); }
+  const std::string& operator[](std::size_t face) const { return names_[index_[face]]; }
+  // n faces, none with a material.
+  void assign_unassigned(std::size_t n) { index_.assign(n, 0); }
+  // The index of `name` (added if new), for set().
+  std::uint32_t intern(const std::string& name);
+  void set(std::size_t face, std::uint32_t name_index) { index_[face] = name_index; }
+  friend bool operator==(const FaceMaterials& a, const FaceMaterials& b);
+
+ private:
+  std::vector<std::string> names_{std::string()};  // names_[0] is "": no material
+  std::map<std::string, std::uint32_t> lookup_{{std::string(), 0}};
+  std::vector<std::uint32_t> index_;  // per face, into names_
+};
+
 // One trimesh object of a 3ds file as drawn (editor section): its points in
 // the file's frame, its faces, and each face's material name ("" if none).
 struct TdsObject {
   std::string name;
   std::vector<Vec3> points;
   std::vector<std::array<unsigned, 3>> faces;
-  std::vector<std::string> face_material;
+  FaceMaterials face_material;
 };
 
 // The trimesh objects (0x4000 chunks holding 0x4100) in file order: assimp's

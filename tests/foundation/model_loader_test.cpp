@@ -4,6 +4,7 @@
 // Collada counts), never from the loader's own output.
 #include "src/scene/model_loader.h"
 #include "src/checks/built_ahead.h"
+#include "src/base/parallel.h"
 #include "src/geometry/bvh.h"
 
 #include "tests/foundation/fixtures.h"
@@ -822,25 +823,65 @@ TEST(ModelLoader3ds, StructuresBuiltAheadMatchOnlyPartsThatAreTheirObject) {
   }
 }
 
+// BuiltAhead::start builds on a thread of its own past the import while
+// checkers' threads ask for their parts: each gets either the structure of
+// its very mesh (built ahead, or waited for while in hand) or null (an
+// object not yet started is claimed, and never built ahead after that).
+TEST(ModelLoader3ds, StructuresBuiltAheadOnTheirOwnThreadAreTakenOrClaimed) {
+  for (const char* name : {"fels.3ds", "test1.3ds", "CameraRollAnimWithChildObject.3ds"}) {
+    SCOPED_TRACE(name);
+    const auto file = kAssimpModels / "3DS" / name;
+    Scene m;
+    load_model(file, 1.0, m);
+    for (int round = 0; round < 4; ++round) {
+      BuiltAhead ahead;
+      ahead.start([&] { return drawn_object_meshes(file, 1.0); });
+      if (round % 2) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      std::vector<std::shared_ptr<const CollisionModelData>> found(m.parts.size());
+      run_queue(m.parts.size(), 2, [&](std::size_t p) { found[p] = ahead.find(m.parts[p].mesh); });
+      const std::size_t built = ahead.size();
+      ahead.finish();
+      std::size_t taken = 0;
+      for (std::size_t p = 0; p < m.parts.size(); ++p) {
+        if (found[p] == nullptr) continue;
+        ++taken;
+        EXPECT_EQ(found[p]->bvh.prim_ids, build_collision_data(m.parts[p].mesh).bvh.prim_ids) << m.parts[p].name;
+      }
+      EXPECT_LE(taken, built);
+      EXPECT_EQ(ahead.find(m.parts[0].mesh), nullptr);  // finish() lets go of everything
+    }
+  }
+}
+
 // load_model's `meanwhile` runs while the child imports and has returned
 // when load_model does; in-process imports run nothing beside.
+// Its `drawn` gives the file's drawn_object_meshes.
 TEST(ModelLoader3ds, MeanwhileThreadRunsBesideTheImportOnly) {
   const auto file = kAssimpModels / "3DS" / "fels.3ds";
   bool ran = false, stopped = false;
+  std::vector<Mesh> drawn;
   Scene s;
-  load_model(file, 1.0, s, {}, [&](const std::atomic<bool>& stop) {
+  load_model(file, 0.5, s, {}, [&](const DrawnMeshes& meshes, const std::atomic<bool>& stop) {
     ran = true;
+    drawn = meshes();
     while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     stopped = true;
   });
   EXPECT_TRUE(ran);
   EXPECT_TRUE(stopped);
   EXPECT_FALSE(s.parts.empty());
+  const std::vector<Mesh> expected = drawn_object_meshes(file, 0.5);
+  ASSERT_FALSE(expected.empty());
+  ASSERT_EQ(drawn.size(), expected.size());
+  for (std::size_t i = 0; i < drawn.size(); ++i) {
+    EXPECT_EQ(drawn[i].vertices, expected[i].vertices);
+    EXPECT_EQ(drawn[i].triangles, expected[i].triangles);
+  }
   IsolationLimits inside;
   inside.isolate = false;
   ran = false;
   Scene t;
-  load_model(file, 1.0, t, inside, [&](const std::atomic<bool>&) { ran = true; });
+  load_model(file, 1.0, t, inside, [&](const DrawnMeshes&, const std::atomic<bool>&) { ran = true; });
   EXPECT_FALSE(ran);
   EXPECT_EQ(t.parts.size(), s.parts.size());
 }

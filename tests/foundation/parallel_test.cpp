@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <memory>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -93,6 +94,65 @@ TEST(Parallel, ConcurrentCallersGetDistinctSlots) {
   a.join();
   b.join();
   EXPECT_EQ(clashes.load(), 0);
+}
+
+// A BesideJob runs beside the caller, whose own parallel loops go on
+// meanwhile; what the job wrote is the caller's after wait(), and what it
+// threw is rethrown there; a job never waited for is joined on destruction.
+TEST(Parallel, BesideJobRunsBesideTheCallersLoops) {
+  std::vector<double> beside(5000, 0.0);
+  std::vector<std::atomic<int>> hits(1000);
+  BesideJob job([&] {
+    for (std::size_t i = 0; i < beside.size(); ++i) beside[i] = 0.5 * static_cast<double>(i);
+  });
+  parallel_for(hits.size(), 2, 7, [&](std::size_t b, std::size_t e, int) {
+    for (std::size_t i = b; i < e; ++i) ++hits[i];
+  });
+  job.wait();
+  for (std::size_t i = 0; i < beside.size(); ++i) ASSERT_EQ(beside[i], 0.5 * static_cast<double>(i));
+  for (const auto& h : hits) ASSERT_EQ(h.load(), 1);
+  job.wait();  // a second wait returns at once
+
+  BesideJob failing([] { throw std::runtime_error("beside"); });
+  EXPECT_THROW(failing.wait(), std::runtime_error);
+
+  std::atomic<bool> ran{false};
+  {
+    BesideJob dropped([&] {
+      ran = true;
+      throw std::runtime_error("dropped");
+    });
+  }
+  EXPECT_TRUE(ran);
+}
+
+// run_queue: every job runs once, on at most `threads` threads at a time,
+// also when the first (longest) job holds one thread throughout; a job's
+// exception comes back after the other threads are done.
+TEST(Parallel, RunQueueThreadsTakeEveryJobOnce) {
+  for (int threads : {1, 2, 3}) {
+    std::vector<std::atomic<int>> hits(200);
+    std::atomic<int> running{0}, most{0};
+    run_queue(hits.size(), threads, [&](std::size_t j) {
+      const int now = ++running;
+      for (int m = most.load(); now > m && !most.compare_exchange_weak(m, now);) {
+      }
+      if (j == 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      ++hits[j];
+      --running;
+    });
+    for (std::size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << "job " << i << ", " << threads << " threads";
+    EXPECT_LE(most.load(), threads);
+  }
+  std::atomic<int> ran{0};
+  EXPECT_THROW(run_queue(50, 2,
+                         [&](std::size_t j) {
+                           ++ran;
+                           if (j == 3) throw std::runtime_error("job 3");
+                         }),
+               std::runtime_error);
+  EXPECT_GE(ran.load(), 4);
+  run_queue(0, 2, [](std::size_t) { FAIL() << "no jobs"; });
 }
 
 }  // namespace

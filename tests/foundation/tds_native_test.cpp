@@ -190,15 +190,26 @@ TEST(Native3ds, MeanwhileThreadRunsBesideTheNativeRead) {
   write(file, bytes);
   ASSERT_TRUE(read_3ds_strict(file));
   std::atomic<bool> ran{false}, stopped{false};
+  std::vector<Mesh> drawn;
   Scene s;
-  load_model(file, 1.0, s, {}, [&](const std::atomic<bool>& stop) {
+  load_model(file, 0.25, s, {}, [&](const DrawnMeshes& meshes, const std::atomic<bool>& stop) {
     ran = true;
+    drawn = meshes();  // from the objects the native reader read
     while (!stop) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     stopped = true;
   });
   EXPECT_TRUE(ran);
   EXPECT_TRUE(stopped);
   EXPECT_FALSE(s.parts.empty());
+  // The same meshes as read from the file again.
+  const std::vector<Mesh> expected = drawn_object_meshes(file, 0.25);
+  ASSERT_EQ(drawn.size(), expected.size());
+  for (std::size_t i = 0; i < drawn.size(); ++i) {
+    ASSERT_EQ(drawn[i].vertices.size(), expected[i].vertices.size());
+    for (std::size_t v = 0; v < drawn[i].vertices.size(); ++v)
+      ASSERT_TRUE(same_bits(drawn[i].vertices[v], expected[i].vertices[v]));
+    EXPECT_EQ(drawn[i].triangles, expected[i].triangles);
+  }
 }
 
 TEST(Native3ds, RandomWriterFilesAreTakenAndEqualAssimp) {

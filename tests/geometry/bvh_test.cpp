@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -111,6 +112,37 @@ TEST(Bvh, OrientedBoxesContainTheirTriangles) {
   same.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
   for (int i = 0; i < 9; ++i) same.triangles.push_back({0, 1, 2});
   check_obbs(build_collision_data(same));
+}
+
+// compute_node_obbs projects each vertex once per node when the vertices are
+// numbered in order of first use (build_collision_data's numbering), every
+// corner otherwise: the same vertex values, so the boxes must be the same
+// bits either way. Reversing the numbering sends a copy down the other path.
+TEST(Bvh, OrientedBoxesDoNotDependOnVertexNumbering) {
+  Mesh flat;  // zero coordinates (signed zeros among the projections) and a flat patch
+  for (int i = 0; i <= 20; ++i)
+    for (int j = 0; j <= 20; ++j) flat.vertices.push_back(Vec3(0.05 * i - 0.5, 0.05 * j - 0.5, 0.0));
+  for (std::uint32_t i = 0; i < 20; ++i)
+    for (std::uint32_t j = 0; j < 20; ++j) {
+      const std::uint32_t a = i * 21 + j;
+      flat.triangles.push_back({a, a + 1, a + 21});
+      flat.triangles.push_back({a + 1, a + 22, a + 21});
+    }
+  for (const Mesh& m : {testing::make_sphere(Vec3(1.7374e6, -2, 3), 1.3, 24, 32),
+                        testing::make_soup(4, 2000, Vec3(0.1, 0.2, 0.3), 1.0, 0.2),
+                        testing::make_torus(Vec3(0.3, 0, -0.2), 0.5, 0.12, 60, 40), flat}) {
+    const CollisionModelData built = build_collision_data(m);
+    CollisionModelData reversed = built;
+    const auto nv = static_cast<std::uint32_t>(built.vertices.size());
+    for (std::uint32_t v = 0; v < nv; ++v) reversed.vertices[nv - 1 - v] = built.vertices[v];
+    for (auto& c : reversed.corners)
+      for (std::uint32_t& v : c) v = nv - 1 - v;
+    reversed.obbs.clear();
+    compute_node_obbs(reversed);
+    ASSERT_EQ(reversed.obbs.size(), built.obbs.size());
+    EXPECT_EQ(std::memcmp(reversed.obbs.data(), built.obbs.data(), built.obbs.size() * sizeof(NodeObb)), 0);
+    check_obbs(reversed);
+  }
 }
 
 TEST(Bvh, DegenerateInputs) {

@@ -4,6 +4,7 @@
 // indices still name the scene mesh's triangles.
 #include "src/scene/scene_loader.h"
 #include "src/checks/verify.h"
+#include "src/checks/probes.h"
 #include "support/fixtures.h"
 
 #include <gtest/gtest.h>
@@ -136,6 +137,71 @@ TEST(Prune, ParallelPruningEqualsSerial) {
         EXPECT_EQ(a.contacts[i].triangles, b.contacts[i].triangles);
       }
     }
+  }
+}
+
+// With probes and a second thread the structures are one queue of jobs: the
+// probes' ray scene, the pruning beside it, then the parts (static ones
+// waiting for the pruning). Built so on 2 threads, the checker leaves out,
+// answers and reads its probes exactly as built on 1 thread.
+TEST(Prune, QueuedBuildOnTwoThreadsEqualsOneThread) {
+  std::mt19937_64 rng(2611);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 4; ++trial) {
+    TempDir dir{"prune-queue"};
+    std::vector<std::pair<std::string, Mesh>> parts;
+    for (int k = 0; k < 10; ++k) {
+      const double reach = k % 3 == 0 ? 30.0 : 3.0;
+      const Vec3 c1(reach * u(rng), 2 * u(rng), reach * u(rng)), c2(3 * u(rng), 2 * u(rng), -1.5 + 0.3 * u(rng));
+      const Vec3 h(0.2 + 0.1 * u(rng), 0.2, 0.2 + 0.1 * u(rng));
+      parts.emplace_back("S" + std::to_string(k),
+                         concat(testing::box_mesh(c1 - h, c1 + h), testing::box_mesh(c2 - h, c2 + h)));
+    }
+    parts.emplace_back("Bar", testing::box_mesh({0, -0.1, 0.9}, {2, 0.1, 1.1}));
+    parts.emplace_back("Tip", testing::box_mesh({2, -0.05, 0.95}, {2.2, 0.05, 1.05}));
+    testing::write_obj(dir / "model.obj", parts);
+    testing::write_text(dir / "scene.json", R"({
+  "format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m", "angle_unit": "deg",
+  "actions": [{"name": "J1", "node": "Bar", "type": "rotate", "pivot": [0, 0, 1], "axis": [0, 1, 0], "limits": [-90, 30]},
+              {"name": "J2", "node": "Tip", "type": "rotate", "pivot": [0, 0, 1], "axis": [0, 1, 0], "limits": [-90, 30]}],
+  "safety_margin": 0.05,
+  "probes": [{"name": "down", "part": "Bar", "origin": [1.5, 0, 0.85], "direction": [0, 0, -1], "max_range": 5.0},
+             {"name": "fan", "part": "Tip", "origin": [2.1, 0, 0.9], "direction": [0, 0, -1],
+              "fan": {"count": 8, "half_angle": 30}, "max_range": 5.0}]
+})");
+    const Scene scene = load_scene(dir / "scene.json");
+    const Checker serial(scene, 1), queued(scene, 2);
+    SCOPED_TRACE(trial);
+    EXPECT_GT(serial.left_out_static_triangles(), 0u);
+    EXPECT_EQ(queued.left_out_static_triangles(), serial.left_out_static_triangles());
+    EXPECT_EQ(queued.triangle_count(), serial.triangle_count());
+    EXPECT_EQ(queued.memory_bytes(), serial.memory_bytes());
+    ASSERT_NE(serial.probe_caster(), nullptr);
+    ASSERT_NE(queued.probe_caster(), nullptr);
+    int hits = 0;
+    for (double deg = -90.0; deg <= 30.0; deg += 7.5) {
+      const std::vector<double> params{deg, -0.5 * deg};
+      StateResult a, b;
+      serial.check_state(params, a);
+      queued.check_state(params, b);
+      EXPECT_EQ(a.collision, b.collision) << deg;
+      EXPECT_EQ(a.min_distance, b.min_distance) << deg;
+      EXPECT_EQ(a.part_a, b.part_a) << deg;
+      EXPECT_EQ(a.part_b, b.part_b) << deg;
+      ASSERT_EQ(a.contacts.size(), b.contacts.size()) << deg;
+      for (std::size_t i = 0; i < a.contacts.size(); ++i) EXPECT_EQ(a.contacts[i].triangles, b.contacts[i].triangles);
+      std::vector<ProbeReading> pa, pb;
+      serial.probe_caster()->cast_state(params, pa);
+      queued.probe_caster()->cast_state(params, pb);
+      ASSERT_EQ(pa.size(), 2u);
+      ASSERT_EQ(pb.size(), pa.size());
+      for (std::size_t q = 0; q < pa.size(); ++q) {
+        EXPECT_EQ(pa[q].distance, pb[q].distance) << deg;
+        EXPECT_EQ(pa[q].hit, pb[q].hit) << deg;
+        hits += pa[q].hit >= 0 ? 1 : 0;
+      }
+    }
+    EXPECT_GT(hits, 0);  // the probes see static parts
   }
 }
 
