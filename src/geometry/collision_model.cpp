@@ -199,6 +199,17 @@ struct Setup {
                                std::abs(cb[2]));
   }
 
+  // True when the nodes' axis-aligned boxes, each in its own frame, are
+  // proven apart: a's box against b's mapped into the working frame
+  // (Arvo's enclosing box), then the reverse. Both widened by the rounding
+  // margins, as the box-only culling uses them.
+  bool aabb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
+    double alo[3], ahi[3], blo[3], bhi[3];
+    a.box(ia, alo, ahi);
+    b.box(ib, blo, bhi);
+    return !boxes_overlap(alo, ahi, blo, bhi) || reverse_lower2(ia, ib) > 0.0;
+  }
+
   // True when the node boxes are proven disjoint (kernels/obb.h).
   bool obb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
     ObbPair p;
@@ -507,6 +518,13 @@ struct OverlapQuery {
     double key[2];
     int n = 0;
     for (int k = 0; k < 2; ++k) {
+      // The oriented boxes are the tighter bound of a node, yet a fifth of
+      // the child pairs they keep on cold states of the default scene have
+      // axis-aligned boxes apart (in one part's frame or the other's), and
+      // that test is a third of the work; either proof drops the pair.
+      // Dropping a pair that holds no contact changes neither the order of
+      // the rest nor which contact is found first.
+      if (s.aabb_disjoint(kids[k].a, kids[k].b)) continue;
       Setup::MappedB own;
       Setup::MappedB& mb = split_a ? shared : own;
       if (!split_a) s.map_b(kids[k].b, own);
