@@ -416,6 +416,7 @@ struct OverlapQuery {
   std::size_t limit;
   CollideResult& result;
   FirstHit* hit;
+  bool box_cull = true;  // CollideRequest::box_cull
   const BvhNode* na = s.a.data->bvh.nodes.data();
   const BvhNode* nb = s.b.data->bvh.nodes.data();
   const LeafKernels& kernels = leaf_kernels();
@@ -524,7 +525,7 @@ struct OverlapQuery {
       // that test is a third of the work; either proof drops the pair.
       // Dropping a pair that holds no contact changes neither the order of
       // the rest nor which contact is found first.
-      if (s.aabb_disjoint(kids[k].a, kids[k].b)) continue;
+      if (box_cull && s.aabb_disjoint(kids[k].a, kids[k].b)) continue;
       Setup::MappedB own;
       Setup::MappedB& mb = split_a ? shared : own;
       if (!split_a) s.map_b(kids[k].b, own);
@@ -543,8 +544,8 @@ struct OverlapQuery {
   }
 };
 
-void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit) {
-  OverlapQuery q{s, limit, result, hit};
+void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit, bool box_cull = true) {
+  OverlapQuery q{s, limit, result, hit, box_cull};
   overlap_descent(q, t_stack, NodePair{0, 0, 0.0});
 }
 
@@ -843,7 +844,8 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
   if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
   const Setup s = make_setup(a, ta, b, tb);
   FirstHit hit;
-  collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, request.contact ? &hit : nullptr);
+  collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, request.contact ? &hit : nullptr,
+             request.box_cull);
   if (request.contact && hit.found) {
     *request.contact = DistanceResult{};
     contact_answer(s, hit, *request.contact);
