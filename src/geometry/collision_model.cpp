@@ -757,6 +757,12 @@ struct DistanceQuery {
         if (normal_gap(norm_a[i], tri_b[j]) - normal_slack >= cut ||
             normal_gap(norm_b[j], tri_a[i]) - normal_slack >= cut)
           continue;
+        // The edge-edge axes: most pairs left here lie far beyond the best
+        // (on cold states of the default scene 80% of them, at twice the
+        // cut or more). Skipped only at best + kernel_slack, as the float
+        // filter above: the kernel's value would be >= best, so it could
+        // not have changed the answer, tie or not.
+        if (edge_axes_reach(tri_a[i], tri_b[j], best + kernel_slack, normal_slack)) continue;
         ++result.triangle_pairs_tested;
         // The collision pass found no intersecting pair, so these triangles
         // are disjoint: the feature pairs alone give the exact tri_distance
