@@ -752,10 +752,14 @@ struct DistanceQuery {
         // only at best + kernel_slack, as the float filter skips: the
         // kernel's value would be >= best, so it could not have changed the
         // answer, tie or not. Its slack: 1e-14 of the pair's own largest
-        // coordinate (the triangle boxes are the very doubles).
+        // coordinate (the triangle boxes are the very doubles). Only until
+        // the search finds its first pair: after that the pairs reaching
+        // here lie near the best, few are proven beyond it, and the test
+        // costs more than it saves (cold full checks, coarse-seeded: 1-4%
+        // slower with it throughout, 2-6% faster than without it this way).
         double pair_big = 0.0;
         for (int k = 0; k < 6; ++k) pair_big = std::max({pair_big, std::abs(box_a[i][k]), std::abs(box_b[j][k])});
-        if (edge_axes_reach(tri_a[i], tri_b[j], best + kernel_slack, 1e-14 * pair_big + 1e-300)) continue;
+        if (!found && edge_axes_reach(tri_a[i], tri_b[j], best + kernel_slack, 1e-14 * pair_big + 1e-300)) continue;
         need_whole();
         if (lo_b[j] - hi_a[i] - slack >= cut) continue;
         if (!have_a[i]) {
