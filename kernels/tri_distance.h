@@ -154,6 +154,45 @@ inline void piercing_pairs(const V s[3], const V t[3], bool s_is_p, Best& best) 
 
 }  // namespace tri_distance_detail
 
+// True when an axis across an edge of p and an edge of q (the nine
+// edge-edge axes of the separating axis test) proves the triangles (9
+// doubles each) at least `reach` apart; slack >= 1e-14 times their largest
+// coordinate magnitude (big). The axes are left
+// unnormalised (gap^2 against reach^2 |n|^2). A dot product with n errs by
+// < 3u |n|_1 big <= 5.2u |n| big, a gap by twice that: `slack` >= 1e-14 big
+// per unit of |n| covers it, and the 1e-12 factors the squares' rounding.
+// Disjoint pairs that the normals do not separate are mostly edge-edge
+// configurations, where one of these axes carries the whole distance.
+inline bool edge_axes_reach(const double* p, const double* q, double reach, double slack) noexcept {
+  const double need = reach + slack;
+  const double need2 = need * need * (1.0 + 1e-12);
+  for (int i = 0; i < 3; ++i) {
+    const double* a0 = p + 3 * i;
+    const double* a1 = p + 3 * ((i + 1) % 3);
+    const double e[3] = {a1[0] - a0[0], a1[1] - a0[1], a1[2] - a0[2]};
+    for (int j = 0; j < 3; ++j) {
+      const double* b0 = q + 3 * j;
+      const double* b1 = q + 3 * ((j + 1) % 3);
+      const double f[3] = {b1[0] - b0[0], b1[1] - b0[1], b1[2] - b0[2]};
+      const double n[3] = {e[1] * f[2] - e[2] * f[1], e[2] * f[0] - e[0] * f[2], e[0] * f[1] - e[1] * f[0]};
+      const double l2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+      if (!(l2 > 0.0)) continue;  // parallel edges: no axis
+      double plo = std::numeric_limits<double>::infinity(), phi = -plo, qlo = plo, qhi = -plo;
+      for (int v = 0; v < 3; ++v) {
+        const double x = n[0] * p[3 * v] + n[1] * p[3 * v + 1] + n[2] * p[3 * v + 2];
+        const double y = n[0] * q[3 * v] + n[1] * q[3 * v + 1] + n[2] * q[3 * v + 2];
+        plo = std::min(plo, x);
+        phi = std::max(phi, x);
+        qlo = std::min(qlo, y);
+        qhi = std::max(qhi, y);
+      }
+      const double gap = std::max(qlo - phi, plo - qhi) * (1.0 - 1e-12);
+      if (gap > 0.0 && gap * gap >= need2 * l2) return true;
+    }
+  }
+  return false;
+}
+
 // For triangles already known to be disjoint (e.g. after an exact
 // collision query over their sets found no intersecting pair): the same
 // feature-pair minimum tri_distance returns for them, without the exact

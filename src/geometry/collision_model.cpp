@@ -199,6 +199,17 @@ struct Setup {
                                std::abs(cb[2]));
   }
 
+  // True when the nodes' axis-aligned boxes, each in its own frame, are
+  // proven apart: a's box against b's mapped into the working frame
+  // (Arvo's enclosing box), then the reverse. Both widened by the rounding
+  // margins, as the box-only culling uses them.
+  bool aabb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
+    double alo[3], ahi[3], blo[3], bhi[3];
+    a.box(ia, alo, ahi);
+    b.box(ib, blo, bhi);
+    return !boxes_overlap(alo, ahi, blo, bhi) || reverse_lower2(ia, ib) > 0.0;
+  }
+
   // True when the node boxes are proven disjoint (kernels/obb.h).
   bool obb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
     ObbPair p;
@@ -405,6 +416,7 @@ struct OverlapQuery {
   std::size_t limit;
   CollideResult& result;
   FirstHit* hit;
+  bool box_cull = true;  // CollideRequest::box_cull
   const BvhNode* na = s.a.data->bvh.nodes.data();
   const BvhNode* nb = s.b.data->bvh.nodes.data();
   const LeafKernels& kernels = leaf_kernels();
@@ -507,6 +519,13 @@ struct OverlapQuery {
     double key[2];
     int n = 0;
     for (int k = 0; k < 2; ++k) {
+      // The oriented boxes are the tighter bound of a node, yet a fifth of
+      // the child pairs they keep on cold states of the default scene have
+      // axis-aligned boxes apart (in one part's frame or the other's), and
+      // that test is a third of the work; either proof drops the pair.
+      // Dropping a pair that holds no contact changes neither the order of
+      // the rest nor which contact is found first.
+      if (box_cull && s.aabb_disjoint(kids[k].a, kids[k].b)) continue;
       Setup::MappedB own;
       Setup::MappedB& mb = split_a ? shared : own;
       if (!split_a) s.map_b(kids[k].b, own);
@@ -525,8 +544,8 @@ struct OverlapQuery {
   }
 };
 
-void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit) {
-  OverlapQuery q{s, limit, result, hit};
+void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit, bool box_cull = true) {
+  OverlapQuery q{s, limit, result, hit, box_cull};
   overlap_descent(q, t_stack, NodePair{0, 0, 0.0});
 }
 
@@ -725,6 +744,22 @@ struct DistanceQuery {
           }
           if (dir_b[j] - dir_a[i] >= dir.cut) continue;
         }
+        // The edge-edge axes (kernels/tri_distance.h): on cold states of the
+        // default scene 80% of the pairs the kernel would get lie far beyond
+        // the best (twice the cut or more), mostly edge-edge configurations
+        // no normal separates, and one of these axes does. Tried before the
+        // leaf-wide axis, which maps every triangle of both leaves. Skipped
+        // only at best + kernel_slack, as the float filter skips: the
+        // kernel's value would be >= best, so it could not have changed the
+        // answer, tie or not. Its slack: 1e-14 of the pair's own largest
+        // coordinate (the triangle boxes are the very doubles). Only until
+        // the search finds its first pair: after that the pairs reaching
+        // here lie near the best, few are proven beyond it, and the test
+        // costs more than it saves (cold full checks, coarse-seeded: 1-4%
+        // slower with it throughout, 2-6% faster than without it this way).
+        double pair_big = 0.0;
+        for (int k = 0; k < 6; ++k) pair_big = std::max({pair_big, std::abs(box_a[i][k]), std::abs(box_b[j][k])});
+        if (!found && edge_axes_reach(tri_a[i], tri_b[j], best + kernel_slack, 1e-14 * pair_big + 1e-300)) continue;
         need_whole();
         if (lo_b[j] - hi_a[i] - slack >= cut) continue;
         if (!have_a[i]) {
@@ -825,7 +860,8 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
   if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
   const Setup s = make_setup(a, ta, b, tb);
   FirstHit hit;
-  collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, request.contact ? &hit : nullptr);
+  collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, request.contact ? &hit : nullptr,
+             request.box_cull);
   if (request.contact && hit.found) {
     *request.contact = DistanceResult{};
     contact_answer(s, hit, *request.contact);

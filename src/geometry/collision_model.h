@@ -45,6 +45,11 @@ struct CollideRequest {
   // a caller that wants both needs one traversal, not two. Untouched when
   // they do not touch. nullptr: not wanted.
   DistanceResult* contact = nullptr;
+  // The rigid-rigid descent's axis-aligned cull of child node pairs before
+  // their oriented-box test (collision_model.cpp). It drops only pairs that
+  // hold no contact, so the listing, its order and the contact are the same
+  // either way; false only for the tests that show it.
+  bool box_cull = true;
 };
 
 struct CollideResult {

@@ -249,6 +249,55 @@ TEST(CollisionModel, NearTouchingRigidPosesMatchBruteForce) {
   EXPECT_GT(stats.separate, 0);
 }
 
+// The axis-aligned cull of the rigid-rigid descent (CollideRequest::box_cull)
+// against the descent without it: the same flag, the same listing in the
+// same order at every limit, the same contact bit for bit, never more node
+// pairs, on interpenetrating, grazing and separate rigid poses.
+TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
+  struct Case {
+    Mesh a, b;
+    double spread;
+  };
+  const Case cases[] = {
+      {testing::make_torus(Vec3::Zero(), 1.0, 0.3, 20, 10), testing::make_sphere(Vec3::Zero(), 0.5, 8, 12), 1.6},
+      {testing::make_sphere(Vec3(0.2, 0, 0), 1.0, 16, 24), testing::make_torus(Vec3(0, 0.1, 0), 1.2, 0.35, 24, 12), 2.0},
+      {testing::make_soup(11, 600, Vec3::Zero(), 1.0, 0.3), testing::make_soup(12, 500, Vec3::Zero(), 1.0, 0.3), 1.5},
+  };
+  std::mt19937_64 rng(77);
+  int colliding = 0, culled = 0, poses = 0;
+  for (const Case& c : cases) {
+    const CollisionModel a(c.a), b(c.b);
+    for (int i = 0; i < testing::case_count(150, 30); ++i) {
+      const Affine ta = random_rigid(rng, Vec3(0.3, -0.2, 0.1), 0.0);
+      const Affine tb = random_rigid(rng, Vec3(0.3, -0.2, 0.1), c.spread);
+      ++poses;
+      for (std::size_t limit : {std::size_t{0}, std::size_t{1}, std::size_t{16}, std::size_t{1} << 30}) {
+        SCOPED_TRACE("pose " + std::to_string(i) + " limit " + std::to_string(limit));
+        DistanceResult contact_fast, contact_slow;
+        CollideRequest fast{limit}, slow{limit};
+        fast.contact = &contact_fast;
+        slow.contact = &contact_slow;
+        slow.box_cull = false;
+        CollideResult rf, rs;
+        collide(a, ta, b, tb, fast, rf);
+        collide(a, ta, b, tb, slow, rs);
+        ASSERT_EQ(rf.collide, rs.collide);
+        ASSERT_EQ(rf.triangle_pairs, rs.triangle_pairs);
+        ASSERT_LE(rf.node_pairs_visited, rs.node_pairs_visited);
+        if (rf.collide) ASSERT_TRUE(testing::same_answer(contact_fast, contact_slow));
+        if (limit == 0) {
+          colliding += rf.collide;
+          culled += rf.node_pairs_visited < rs.node_pairs_visited;
+        }
+      }
+    }
+  }
+  // Both outcomes, and the cull at work, for the comparison to mean something.
+  EXPECT_GT(colliding, poses / 10);
+  EXPECT_LT(colliding, poses);
+  EXPECT_GT(culled, 0);
+}
+
 TEST(CollisionModel, EmptyMeshes) {
   const CollisionModel empty{Mesh{}};
   const CollisionModel sphere(testing::make_sphere(Vec3::Zero(), 1, 8, 8));

@@ -126,5 +126,59 @@ TEST(TriDistance, TouchingIsZero) {
   EXPECT_LE((e.point_p - Vec3(1, 1, 0)).norm(), 1e-15);
 }
 
+// edge_axes_reach against the kernel it lets the distance search skip: it may
+// say yes only when the pair is at least `reach` apart, so the kernel's value
+// is at least reach less the search's kernel slack (1e-13 big). Random pairs,
+// edge-edge pairs built at a known distance (where one axis carries it all),
+// degenerate triangles, 1.7e6 m offsets, reach just under and over the distance.
+TEST(TriDistance, EdgeAxesNeverRejectACloserPair) {
+  std::mt19937_64 rng(123);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double offsets[] = {0.0, 3.0, 1.7374e6};
+  int said_yes = 0, edge_pairs_yes = 0, edge_pairs = 0;
+  for (int it = 0; it < 60000; ++it) {
+    const double off = offsets[it % 3];
+    const Vec3 o(off * u(rng), off * u(rng), off * u(rng));
+    Tri3 p, q;
+    const int kind = it % 4;
+    if (kind == 3) {
+      // Edges a0a1 and b0b1 closest at interior points, h apart along n.
+      const Vec3 e = Vec3(u(rng), u(rng), u(rng)).normalized();
+      Vec3 f = Vec3(u(rng), u(rng), u(rng)).normalized();
+      const Vec3 n = e.cross(f).normalized();
+      const double h = std::pow(10.0, -6.0 + 6.0 * (u(rng) + 1.0) / 2.0);
+      const Vec3 c = o + Vec3(u(rng), u(rng), u(rng));
+      p = {c - e, c + e, c - n + 0.3 * u(rng) * e};
+      q = {c + h * n - f, c + h * n + f, c + (h + 1.0) * n + 0.3 * u(rng) * f};
+      ++edge_pairs;
+    } else {
+      const Vec3 shift = Vec3(u(rng), u(rng), u(rng)) * (kind == 0 ? 0.3 : 2.0);
+      for (auto& v : p) v = o + Vec3(u(rng), u(rng), u(rng));
+      for (auto& v : q) v = o + Vec3(u(rng), u(rng), u(rng)) + shift;
+      if (kind == 2) q[2] = q[0] + 0.5 * (q[1] - q[0]);  // zero area
+    }
+    double a[9], b[9];
+    flatten(p, a);
+    flatten(q, b);
+    if (tri_distance(a, b).intersecting) continue;
+    Vec3 pp, qq;
+    const double d = std::sqrt(tri_distance_disjoint2(a, b, pp, qq));
+    const double ref = static_cast<double>(testing::reference_tri_distance(p.data(), q.data()));
+    double big = 0.0;
+    for (int k = 0; k < 9; ++k) big = std::max({big, std::abs(a[k]), std::abs(b[k])});
+    for (double f : {0.5, 1.0 - 1e-6, 1.0 - 1e-12, 1.0, 1.0 + 1e-12, 1.0 + 1e-6, 2.0}) {
+      const double reach = ref * f;
+      if (!edge_axes_reach(a, b, reach, 1e-14 * big)) continue;
+      ++said_yes;
+      edge_pairs_yes += kind == 3 && f == 0.5;
+      ASSERT_GE(d, reach - 1e-13 * big) << it << " reach " << reach << " kernel " << d;
+      ASSERT_GE(ref, reach - 1e-15 * big) << it << " reach " << reach << " reference " << ref;
+    }
+  }
+  // The test does work: most edge-edge pairs are proven half their distance apart.
+  EXPECT_GT(said_yes, 10000);
+  EXPECT_GT(edge_pairs_yes, edge_pairs / 2);
+}
+
 }  // namespace
 }  // namespace plancheck
