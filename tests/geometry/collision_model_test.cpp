@@ -284,7 +284,9 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
         ASSERT_EQ(rf.collide, rs.collide);
         ASSERT_EQ(rf.triangle_pairs, rs.triangle_pairs);
         ASSERT_LE(rf.node_pairs_visited, rs.node_pairs_visited);
-        if (rf.collide) ASSERT_TRUE(testing::same_answer(contact_fast, contact_slow));
+        if (rf.collide) {
+          ASSERT_TRUE(testing::same_answer(contact_fast, contact_slow));
+        }
         if (limit == 0) {
           colliding += rf.collide;
           culled += rf.node_pairs_visited < rs.node_pairs_visited;
