@@ -79,4 +79,16 @@ int run_command(const std::string& command) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
+std::vector<double> random_state(const Scene& scene, std::mt19937_64& rng, double widen) {
+  std::vector<double> p = scene.reference_parameters;
+  for (const Action& a : scene.actions) {
+    const double lo = a.has_limits ? a.lower : -180.0, hi = a.has_limits ? a.upper : 180.0;
+    for (int k = 0; k < a.parameter_count; ++k) {
+      const double u = static_cast<double>(rng() >> 11) * 0x1.0p-53;
+      p[static_cast<std::size_t>(a.first_parameter + k)] = lo - widen * (hi - lo) + u * (1 + 2 * widen) * (hi - lo);
+    }
+  }
+  return p;
+}
+
 }  // namespace plancheck::testing

@@ -5,6 +5,7 @@
 #include "src/scene/scene.h"
 
 #include <filesystem>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +35,11 @@ Mesh box_mesh(const Vec3& lo, const Vec3& hi);
 // Wavefront OBJ with one `o NAME` object per part (assimp makes each a node
 // under the root). Coordinates printed with 17 significant digits.
 void write_obj(const std::filesystem::path& file, const std::vector<std::pair<std::string, Mesh>>& parts);
+
+// A cold state of the scene: every action's parameters uniform within its
+// limits (-180 to 180 without), widened by `widen` of that range on each
+// side (0: within the limits), one draw of rng per parameter.
+std::vector<double> random_state(const Scene& scene, std::mt19937_64& rng, double widen);
 
 // Runs a shell command; returns its exit status (not the raw wait status).
 int run_command(const std::string& command);

@@ -93,23 +93,30 @@ TEST(Prune, DistancesAndContactIndicesUnchanged) {
 }
 
 
+// `count` static parts S0, S1, ..., each two boxes: one near the sweep of
+// the tests' bar (pivot at height 1, turning about y), one maybe far (every
+// third within 30 m, the others within 3 m).
+std::vector<std::pair<std::string, Mesh>> static_parts_around_bar(std::mt19937_64& rng, int count) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<std::pair<std::string, Mesh>> parts;
+  for (int k = 0; k < count; ++k) {
+    const double reach = k % 3 == 0 ? 30.0 : 3.0;
+    const Vec3 c1(reach * u(rng), 2 * u(rng), reach * u(rng)), c2(3 * u(rng), 2 * u(rng), -1.5 + 0.3 * u(rng));
+    const Vec3 h(0.2 + 0.1 * u(rng), 0.2, 0.2 + 0.1 * u(rng));
+    parts.emplace_back("S" + std::to_string(k),
+                       concat(testing::box_mesh(c1 - h, c1 + h), testing::box_mesh(c2 - h, c2 + h)));
+  }
+  return parts;
+}
+
 // prune_static runs its passes over parts in parallel (--threads): on random
 // scenes of many static parts around a moving bar, a build on 2 threads
 // leaves out exactly what a build on 1 thread does, and answers the same.
 TEST(Prune, ParallelPruningEqualsSerial) {
   std::mt19937_64 rng(1126);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 6; ++trial) {
     TempDir dir{"prune-parallel"};
-    std::vector<std::pair<std::string, Mesh>> parts;
-    for (int k = 0; k < 12; ++k) {
-      // Each static part: two boxes, one near the bar's sweep, one maybe far.
-      const double reach = k % 3 == 0 ? 30.0 : 3.0;
-      const Vec3 c1(reach * u(rng), 2 * u(rng), reach * u(rng)), c2(3 * u(rng), 2 * u(rng), -1.5 + 0.3 * u(rng));
-      const Vec3 h(0.2 + 0.1 * u(rng), 0.2, 0.2 + 0.1 * u(rng));
-      parts.emplace_back("S" + std::to_string(k),
-                         concat(testing::box_mesh(c1 - h, c1 + h), testing::box_mesh(c2 - h, c2 + h)));
-    }
+    std::vector<std::pair<std::string, Mesh>> parts = static_parts_around_bar(rng, 12);
     parts.emplace_back("Bar", testing::box_mesh({0, -0.1, 0.9}, {2, 0.1, 1.1}));
     testing::write_obj(dir / "model.obj", parts);
     testing::write_text(dir / "scene.json", R"({
@@ -146,17 +153,9 @@ TEST(Prune, ParallelPruningEqualsSerial) {
 // answers and reads its probes exactly as built on 1 thread.
 TEST(Prune, QueuedBuildOnTwoThreadsEqualsOneThread) {
   std::mt19937_64 rng(2611);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 4; ++trial) {
     TempDir dir{"prune-queue"};
-    std::vector<std::pair<std::string, Mesh>> parts;
-    for (int k = 0; k < 10; ++k) {
-      const double reach = k % 3 == 0 ? 30.0 : 3.0;
-      const Vec3 c1(reach * u(rng), 2 * u(rng), reach * u(rng)), c2(3 * u(rng), 2 * u(rng), -1.5 + 0.3 * u(rng));
-      const Vec3 h(0.2 + 0.1 * u(rng), 0.2, 0.2 + 0.1 * u(rng));
-      parts.emplace_back("S" + std::to_string(k),
-                         concat(testing::box_mesh(c1 - h, c1 + h), testing::box_mesh(c2 - h, c2 + h)));
-    }
+    std::vector<std::pair<std::string, Mesh>> parts = static_parts_around_bar(rng, 10);
     parts.emplace_back("Bar", testing::box_mesh({0, -0.1, 0.9}, {2, 0.1, 1.1}));
     parts.emplace_back("Tip", testing::box_mesh({2, -0.05, 0.95}, {2.2, 0.05, 1.05}));
     testing::write_obj(dir / "model.obj", parts);

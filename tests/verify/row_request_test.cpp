@@ -8,6 +8,7 @@
 #include "src/checks/verify.h"
 #include "src/scene/plan.h"
 #include "src/scene/scene_loader.h"
+#include "support/fixtures.h"
 #include "support/sanitized.h"
 
 #include <gtest/gtest.h>
@@ -59,15 +60,7 @@ TEST(RowRequest, ColdStatesOfTheDefaultSceneGiveTheFullRow) {
   const int n = testing::case_count(600, 60);
   for (int i = 0; i < n; ++i) {
     // Within limits, and every fifth state up to 20% beyond them.
-    std::vector<double> p = scene.reference_parameters;
-    const double widen = i % 5 == 0 ? 0.2 : 0.0;
-    for (const Action& a : scene.actions) {
-      const double lo = a.has_limits ? a.lower : -180.0, hi = a.has_limits ? a.upper : 180.0;
-      for (int k = 0; k < a.parameter_count; ++k) {
-        const double u = static_cast<double>(rng() >> 11) * 0x1.0p-53;
-        p[static_cast<std::size_t>(a.first_parameter + k)] = lo - widen * (hi - lo) + u * (1 + 2 * widen) * (hi - lo);
-      }
-    }
+    const std::vector<double> p = testing::random_state(scene, rng, i % 5 == 0 ? 0.2 : 0.0);
     StateResult full, row;
     checker.check_state(p, full);
     checker.check_state(p, row, row_request());
