@@ -18,7 +18,6 @@
 #include <cmath>
 #include <cstdio>
 #include <new>
-#include <thread>
 
 // Present only in sanitizer builds (weak: null otherwise). libFuzzer and the
 // sanitizers register a death callback that writes a crash artifact and
@@ -135,18 +134,12 @@ std::string last_line(const std::string& text) {
 bool in_isolated_child() { return g_in_child; }
 
 SideWork::SideWork(const std::function<void(const std::atomic<bool>& stop)>& work) {
-  if (!work) return;
-  thread_ = std::thread([this, work] {
-    try {
-      work(stop_);
-    } catch (...) {
-    }
-  });
+  if (work) job_ = std::make_unique<BesideJob>([this, work] { work(stop_); });
 }
 
 SideWork::~SideWork() {
   stop_ = true;
-  if (thread_.joinable()) thread_.join();
+  job_.reset();  // joins; what the work threw is dropped
 }
 
 std::string run_isolated(const std::function<std::string()>& work, const IsolationLimits& limits,

@@ -10,12 +10,14 @@
 // IsolationError in the parent.
 #pragma once
 
+#include "src/base/parallel.h"
+
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
-#include <thread>
 
 namespace plancheck {
 
@@ -66,7 +68,7 @@ class SideWork {
 
  private:
   std::atomic<bool> stop_{false};
-  std::thread thread_;
+  std::unique_ptr<BesideJob> job_;  // the thread (src/base/parallel.h); after stop_, which it reads
 };
 
 // True in the child process run_isolated forked (which ends with _exit:
