@@ -717,6 +717,39 @@ struct DistanceQuery {
     // it is in: facing patches (an arm's flat underside over a deck) are
     // told apart by a few dot products instead of the 15-feature kernel.
     // Computed on first use: most pairs fall to the cheaper bounds first.
+    // Until the search has found a pair, the pair with the smallest float
+    // bound first: its distance bounds the rest of the leaf (and search)
+    // at once, where the pairs in slot order would each tighten it a
+    // little. Its exact value is what the loop below would compute, so the
+    // loop skips it. Cold states (2,000, the row request): 0.199 -> 0.177 s
+    // thread CPU, min of 7, three alternations; the first-below searches of
+    // the coarse pass find their pair sooner, and searches that find
+    // nothing settle each leaf's nearest pair first.
+    std::uint32_t probe_i = kMaxLeafSize, probe_j = 0;
+    if (!found) {
+      float nearest = cut2_f;
+      for (std::uint32_t i = 0; i < x.count; ++i)
+        for (std::uint32_t m = lb.candidates[i]; m != 0; m &= m - 1) {
+          const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+          if (lb.lower2[i][j] < nearest) {
+            nearest = lb.lower2[i][j];
+            probe_i = i;
+            probe_j = j;
+          }
+        }
+      if (probe_i < x.count) {
+        need_a(probe_i);
+        need_b(probe_j);
+        ++result.triangle_pairs_tested;
+        Vec3 pp, qq;
+        const double dist = std::sqrt(kernels.tri_distance2(tri_a[probe_i], tri_b[probe_j], pp.data(), qq.data()));
+        if (dist < best) {
+          improve(dist, x.index + probe_i, y.index + probe_j, pp, qq);
+          cut2_f = float_cut2();
+          if (best == 0.0 || first_below) return false;
+        }
+      }
+    }
     double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
     bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
     // Spans on dir: a's highest, b's lowest projection (valid while gen_* == dir_gen).
@@ -725,7 +758,7 @@ struct DistanceQuery {
     for (std::uint32_t i = 0; i < x.count; ++i)
       for (std::uint32_t m = lb.candidates[i]; m != 0; m &= m - 1) {
         const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
-        if (lb.lower2[i][j] >= cut2_f) continue;
+        if (lb.lower2[i][j] >= cut2_f || (i == probe_i && j == probe_j)) continue;
         need_a(i);
         need_b(j);
         // Triangle boxes: a cheap lower bound (axis-aligned gaps).
@@ -907,7 +940,17 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
     }
   }
   q.first_below = request.first_below;
-  if (!(q.found && q.first_below)) distance_descent(q, t_stack, root);
+  if (!(q.found && q.first_below)) {
+    // Exact with nothing to start from (the first pair found would set the
+    // bound): best-first (kernels/pair_traversal.h). Two-mesh bench, apart
+    // poses: 50.4 -> 42.2 us. A coarse search (rel_tolerance) or one with a
+    // bound or seed goes depth first: best-first made cold states' coarse
+    // pass 3-8% slower.
+    if (!q.found && !std::isfinite(q.best) && !(request.rel_tolerance > 0.0))
+      distance_best_first(q, t_stack, root);
+    else
+      distance_descent(q, t_stack, root);
+  }
   if (!q.found) return;
   report_pair(s, q.best_sa, q.best_sb, q.best_pa, q.best_pb, q.best, result);
   result.slot_a = s.swapped ? q.best_sb : q.best_sa;

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <string>
@@ -298,6 +299,99 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
   EXPECT_GT(colliding, poses / 10);
   EXPECT_LT(colliding, poses);
   EXPECT_GT(culled, 0);
+}
+
+// An exact search with nothing to start from runs best-first, one with a
+// bound depth-first (kernels/pair_traversal.h); both settle a leaf's nearest
+// float-bounded pair first until they find one. The same minimum, bit for
+// bit (the smallest of the same kernel values in the same frame), against
+// brute force, on far, grazing and separate poses of rigid and scaled parts,
+// near the origin and at lunar-radius offsets; best-first never expands more
+// node pairs than depth-first from no bound (it expands only pairs below the
+// final best).
+TEST(CollisionModel, BestFirstAndDepthFirstFindTheSameMinimum) {
+  struct Case {
+    Mesh a, b;
+    Vec3 at;
+    double spread;
+  };
+  const Case cases[] = {
+      {testing::make_torus(Vec3::Zero(), 1.0, 0.3, 20, 10), testing::make_sphere(Vec3::Zero(), 0.5, 8, 12),
+       Vec3(0.3, -0.2, 0.1), 3.0},
+      {testing::make_soup(11, 600, Vec3::Zero(), 1.0, 0.3), testing::make_soup(12, 500, Vec3::Zero(), 1.0, 0.3),
+       Vec3::Zero(), 2.5},
+      {testing::make_torus(Vec3::Zero(), 1.0, 0.3, 20, 10), testing::make_sphere(Vec3::Zero(), 0.8, 12, 20),
+       Vec3(1.7374e6, -2.5e5, 3.1e5), 3.0},
+  };
+  std::mt19937_64 rng(1127);
+  int compared = 0, fewer = 0;
+  for (const Case& c : cases) {
+    const CollisionModel a(c.a), b(c.b);
+    for (int i = 0; i < testing::case_count(30, 6); ++i) {
+      const Affine ta = random_rigid(rng, c.at, 0.0);
+      Affine tb = random_rigid(rng, c.at, c.spread);
+      if (i % 3 == 1) tb = with_scale(tb, rng);
+      SCOPED_TRACE("pose " + std::to_string(i));
+      CollideResult touch;
+      collide(a, ta, b, tb, CollideRequest{0}, touch);
+      if (touch.collide) continue;
+      DistanceRequest best_first;  // no bound, no seed
+      best_first.known_disjoint = true;
+      DistanceRequest depth_first = best_first;
+      depth_first.upper_bound = std::numeric_limits<double>::max();
+      DistanceResult bf, df;
+      distance(a, ta, b, tb, best_first, bf);
+      distance(a, ta, b, tb, depth_first, df);
+      ASSERT_TRUE(bf.found);
+      ASSERT_TRUE(df.found);
+      ASSERT_EQ(bf.distance, df.distance);
+      EXPECT_LE(bf.node_pairs_visited, df.node_pairs_visited);
+      fewer += bf.node_pairs_visited < df.node_pairs_visited;
+      const auto va = posed_vertices(c.a, ta), vb = posed_vertices(c.b, tb);
+      const auto bd = brute_force_distance(c.a, va, c.b, vb);
+      const double scale = 1.0 + va[0].cwiseAbs().maxCoeff();
+      ASSERT_NEAR(bf.distance, bd.distance, std::max({1e-12 * bd.distance, 1e-15, 4e-15 * scale}));
+      EXPECT_LE(point_to_triangle(bf.point_a, c.a, va, bf.triangle_a), 1e-12 * scale);
+      EXPECT_LE(point_to_triangle(bf.point_b, c.b, vb, bf.triangle_b), 1e-12 * scale);
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 25);
+  EXPECT_GT(fewer, 0);  // the two orders differ somewhere
+}
+
+// Parts of one leaf each: every search is a single leaf pair, where the
+// first search settles the pair with the smallest float bound before the
+// others (DistanceQuery::leaves) and then skips it. Against brute force
+// over every triangle pair, from no bound (best-first) and from a bound
+// (depth-first), on soups close enough that most pairs' float bounds are 0.
+TEST(CollisionModel, SingleLeafPairsMatchBruteForce) {
+  std::mt19937_64 rng(27);
+  int compared = 0;
+  for (int m = 0; m < testing::case_count(40, 8); ++m) {
+    const Mesh ma = testing::make_soup(100 + m, 16, Vec3::Zero(), 0.5, 0.3);
+    const Mesh mb = testing::make_soup(200 + m, 16, Vec3::Zero(), 0.5, 0.3);
+    const CollisionModel a(ma), b(mb);
+    for (int i = 0; i < 25; ++i) {
+      const Affine ta = random_rigid(rng, Vec3::Zero(), 0.0);
+      const Affine tb = random_rigid(rng, Vec3::Zero(), 1.2);
+      CollideResult touch;
+      collide(a, ta, b, tb, CollideRequest{0}, touch);
+      if (touch.collide) continue;
+      const auto va = posed_vertices(ma, ta), vb = posed_vertices(mb, tb);
+      const auto bd = brute_force_distance(ma, va, mb, vb);
+      for (const double bound : {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::max()}) {
+        DistanceRequest q{bound};
+        q.known_disjoint = true;
+        DistanceResult d;
+        distance(a, ta, b, tb, q, d);
+        ASSERT_TRUE(d.found) << m << " " << i;
+        ASSERT_NEAR(d.distance, bd.distance, std::max(1e-12 * bd.distance, 1e-15)) << m << " " << i;
+      }
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, testing::case_count(40, 8) * 5);
 }
 
 TEST(CollisionModel, EmptyMeshes) {
