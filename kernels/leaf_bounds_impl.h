@@ -133,31 +133,82 @@ inline void leaf_data(const Mapped& leaf, int count, const float* axis, LeafData
   leaf_normals<F>(leaf, count, axis, d);
 }
 
-// Union of the boxes of a leaf's first `count` triangles.
-inline void union_box(const LeafData& d, int count, float* lo, float* hi) noexcept {
-  for (int k = 0; k < 3; ++k) {
-    float l = d.lo[k][0], h = d.hi[k][0];
-    for (int t = 1; t < count; ++t) {
-      l = d.lo[k][t] < l ? d.lo[k][t] : l;
-      h = d.hi[k][t] > h ? d.hi[k][t] : h;
-    }
-    lo[k] = l;
-    hi[k] = h;
-  }
+inline std::uint32_t lane_mask(int count) noexcept {
+  return count >= 32 ? ~0u : ((1u << count) - 1u);
 }
 
-// Union of the boxes of the triangles in mask m (not empty).
+// Lane l of the result is true when bit t + l of m is set.
+template <class F>
+inline typename F::M lanes_in(std::uint32_t m, int t) noexcept {
+  using M = typename F::M;
+  alignas(64) static constexpr std::int32_t kIota[kLeafLanes] = {0, 1, 2,  3,  4,  5,  6,  7,
+                                                                 8, 9, 10, 11, 12, 13, 14, 15};
+  M idx;
+  __builtin_memcpy(&idx, kIota, sizeof(M));
+  const M bits = ((M{} + static_cast<std::int32_t>(m >> t)) >> idx) & 1;
+  return bits != 0;
+}
+
+// Smallest and largest lane (a tree of shuffles: the serial scalar loops
+// these replace were ~20% of touch_masks, bound by the latency of their
+// min/max chains).
+template <class F>
+inline float lane_min(F x) noexcept {
+  constexpr int W = F::kWidth;
+  auto v = x.v;
+  if constexpr (W >= 16)
+    v = min(F{v}, F{__builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7)}).v;
+  if constexpr (W >= 8) {
+    if constexpr (W == 8)
+      v = min(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3)}).v;
+    else
+      v = min(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11)}).v;
+  }
+  if constexpr (W >= 4) {
+    float r = v[0];
+    for (int l = 1; l < 4; ++l) r = v[l] < r ? v[l] : r;
+    return r;
+  }
+  return v[0];
+}
+
+template <class F>
+inline float lane_max(F x) noexcept {
+  constexpr int W = F::kWidth;
+  auto v = x.v;
+  if constexpr (W >= 16)
+    v = max(F{v}, F{__builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7)}).v;
+  if constexpr (W >= 8) {
+    if constexpr (W == 8)
+      v = max(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3)}).v;
+    else
+      v = max(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11)}).v;
+  }
+  if constexpr (W >= 4) {
+    float r = v[0];
+    for (int l = 1; l < 4; ++l) r = v[l] > r ? v[l] : r;
+    return r;
+  }
+  return v[0];
+}
+
+// Union of the boxes of the triangles in mask m (not empty). The same set
+// of finite floats as a scalar loop would take its minimum and maximum of,
+// so the same values (a zero may come out with the other sign, which no
+// comparison in near_union can tell apart).
+template <class F>
 inline void masked_union_box(const LeafData& d, std::uint32_t m, float* lo, float* hi) noexcept {
-  const int first = std::countr_zero(m);
+  constexpr int W = F::kWidth;
+  const int first = std::countr_zero(m), last = 32 - std::countl_zero(m);
   for (int k = 0; k < 3; ++k) {
-    float l = d.lo[k][first], h = d.hi[k][first];
-    for (std::uint32_t x = m & (m - 1); x != 0; x &= x - 1) {
-      const int t = std::countr_zero(x);
-      l = d.lo[k][t] < l ? d.lo[k][t] : l;
-      h = d.hi[k][t] > h ? d.hi[k][t] : h;
+    F l = F::broadcast(d.lo[k][first]), h = F::broadcast(d.hi[k][first]);
+    for (int t = first / W * W; t < last; t += W) {
+      const auto in = lanes_in<F>(m, t);
+      l = min(l, select(in, F::load(&d.lo[k][t]), l));
+      h = max(h, select(in, F::load(&d.hi[k][t]), h));
     }
-    lo[k] = l;
-    hi[k] = h;
+    lo[k] = lane_min(l);
+    hi[k] = lane_max(h);
   }
 }
 
@@ -167,18 +218,22 @@ inline void masked_union_box(const LeafData& d, std::uint32_t m, float* lo, floa
 // the union of the other leaf's triangle boxes is separated, by the very
 // same test, from each of those triangles' boxes: such a row or column of
 // touch_masks is all clear, and skipping it changes no bit.
+template <class F>
 inline std::uint32_t near_union(const LeafData& d, int count, const float* lo, const float* hi,
                                 float slack) noexcept {
-  std::uint32_t m = 0;
-  for (int t = 0; t < count; ++t) {
-    bool apart = false;
+  constexpr int W = F::kWidth;
+  const F s = F::broadcast(slack), zero = F::broadcast(0.0f);
+  std::uint32_t apart = 0;
+  for (int t = 0; t < count; t += W) {
+    F sep = zero;
     for (int k = 0; k < 3; ++k) {
-      const float g1 = lo[k] - d.hi[k][t], g2 = d.lo[k][t] - hi[k];
-      apart |= (g1 > g2 ? g1 : g2) - slack > 0.0f;
+      const F g1 = F::broadcast(lo[k]) - F::load(&d.hi[k][t]), g2 = F::load(&d.lo[k][t]) - F::broadcast(hi[k]);
+      const F gap = max(g1, g2) - s;
+      sep = k == 0 ? gap : max(sep, gap);
     }
-    m |= apart ? 0u : (1u << t);
+    apart |= lanes::movemask<F>(sep.v > zero.v) << t;
   }
-  return m;
+  return ~apart & lane_mask(count);
 }
 
 // Gaps of a_i against the lanes t.. of b, each already reduced by its error
@@ -273,10 +328,6 @@ inline F separation(const Gaps<F>& g) noexcept {
   return max(max(max(g.box[0], g.box[1]), max(g.box[2], g.nb)), max(g.na, g.ax));
 }
 
-inline std::uint32_t lane_mask(int count) noexcept {
-  return count >= 32 ? ~0u : ((1u << count) - 1u);
-}
-
 inline bool usable_extent(float extent) noexcept { return extent <= kMaxExtent; }  // false for NaN
 
 // kRows: first find the columns whose triangle box meets a's union box and
@@ -311,11 +362,11 @@ void touch_masks(const LeafPairInput& in, std::uint32_t* touch) noexcept {
   std::uint32_t rows = lane_mask(in.a.count), cols = valid;
   if constexpr (kRows) {
     float lo[3], hi[3];
-    union_box(da, in.a.count, lo, hi);
-    cols = near_union(db, in.b.count, lo, hi, box_slack);
+    masked_union_box<F>(da, rows, lo, hi);
+    cols = near_union<F>(db, in.b.count, lo, hi, box_slack);
     if (cols != 0) {
-      masked_union_box(db, cols, lo, hi);
-      rows = near_union(da, in.a.count, lo, hi, box_slack);
+      masked_union_box<F>(db, cols, lo, hi);
+      rows = near_union<F>(da, in.a.count, lo, hi, box_slack);
     }
     if (rows == 0 || cols == 0) {
       for (int i = 0; i < in.a.count; ++i) touch[i] = 0;
