@@ -359,6 +359,64 @@ TEST(LeafBounds, AdversarialLeavesNeverRejectTouchingPairs) {
   EXPECT_GT(totals.touching, 10000u);
 }
 
+// Leaf pairs where only a few triangles of one side come near the other
+// leaf: touch_masks then tests the pairs column by column (few of b's
+// triangles left) or row by row over the rows near those columns only, and
+// must give the bits of the plain row-by-row reference at every width. The
+// near triangles touch, nearly touch or lie in the plane of a's (as in
+// AdversarialLeaves); the rest are moved out of the other leaf's box.
+TEST(LeafBounds, FewNearColumnsOrRowsKeepEveryBit) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Totals totals;
+  for (int round = 0; round < 8000; ++round) {
+    const double offset = kOffsets[round % 4];
+    const double c[3] = {offset * u(rng), offset * u(rng), offset * u(rng)};
+    const double s = std::pow(10.0, -2.0 + 2.0 * (u(rng) + 1.0) / 2.0);
+    const int na = 1 + static_cast<int>(rng() % 16), nb = 1 + static_cast<int>(rng() % 16);
+    const int near = 1 + static_cast<int>(rng() % 4);
+    std::vector<Tri9> big, few;
+    for (int i = 0; i < na; ++i) big.push_back(random_triangle(rng, c, s, static_cast<int>(rng() % 6)));
+    for (int j = 0; j < nb; ++j) {
+      if (j < near || rng() % 8 == 0) {
+        const Tri9& p = big[rng() % big.size()];
+        few.push_back(permuted(adversarial(rng, permuted(p, static_cast<int>(rng() % 6)),
+                                           static_cast<int>(rng() % 5)),
+                               static_cast<int>(rng() % 6)));
+      } else {
+        // Beyond a's box along one axis (by 0 to 2 sizes more).
+        Tri9 t = random_triangle(rng, c, s, static_cast<int>(rng() % 4));
+        const int k = static_cast<int>(rng() % 3);
+        const double shift = (rng() & 1 ? 1.0 : -1.0) * s * (2.5 + u(rng) + 1.0);
+        for (int v = 0; v < 3; ++v) t[3 * v + k] += shift;
+        few.push_back(t);
+      }
+    }
+    std::shuffle(few.begin(), few.end(), rng);
+    // Few near columns (b = few) or few near rows (a = few).
+    const bool few_rows = round % 2 == 1;
+    Side a, b;
+    a.own = few_rows ? few : big;
+    a.finish();
+    const std::vector<Tri9>& wanted = few_rows ? big : few;
+    if (round % 3 != 2) {
+      b.own = wanted;
+    } else {
+      const Eigen::Vector3d shift(offset * u(rng), offset * u(rng), offset * u(rng));
+      place(b, wanted, random_rotation(rng), shift);
+    }
+    b.finish();
+    check_pair(a, b, totals);
+    if (HasFatalFailure()) return;
+  }
+  std::printf("pairs %llu, touching %llu, proven apart %llu\n",
+              static_cast<unsigned long long>(totals.pairs),
+              static_cast<unsigned long long>(totals.touching),
+              static_cast<unsigned long long>(totals.proven_apart));
+  EXPECT_GT(totals.touching, 5000u);
+  EXPECT_GT(totals.proven_apart, totals.pairs / 2);
+}
+
 // Far beyond the float range the kernels prove nothing rather than overflow.
 TEST(LeafBounds, HugeExtentsProveNothing) {
   Side a, b;
