@@ -88,9 +88,6 @@ struct Side {
 
   // This side for the SIMD leaf prefilters (kernels/leaf_bounds.h).
   LeafSide leaf_side() const {
-    LeafSide ls;
-    ls.soa = data->soa.data();
-    ls.stride = data->soa_stride;
     double size = 0.0;
     for (int r = 0; r < 3; ++r) {
       double row = identity ? data->max_abs[r] : std::abs(map.t[r]);
@@ -98,12 +95,8 @@ struct Side {
         for (int c = 0; c < 3; ++c) row += map.abs_l[3 * r + c] * data->max_abs[c];
       size = std::max(size, row);
     }
-    ls.size = size * (1.0 + 1e-6);
-    if (!identity) {
-      ls.l = map.l;
-      ls.t = map.t;
-    }
-    return ls;
+    return make_leaf_side(data->soa.data(), data->soa_stride, identity ? nullptr : map.l,
+                          identity ? nullptr : map.t, size * (1.0 + 1e-6));
   }
 
   // Working-frame coordinates of the triangle in slot s.

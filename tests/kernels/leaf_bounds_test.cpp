@@ -72,15 +72,8 @@ struct Side {
   }
 
   LeafSide leaf_side() const {
-    LeafSide s;
-    s.soa = soa.data();
-    s.stride = stride;
-    s.size = size_ * (1.0 + 1e-6);
-    if (!identity) {
-      s.l = l;
-      s.t = t;
-    }
-    return s;
+    return make_leaf_side(soa.data(), stride, identity ? nullptr : l, identity ? nullptr : t,
+                          size_ * (1.0 + 1e-6));
   }
 
   double size_ = 0.0;
