@@ -267,16 +267,6 @@ void touch_masks(const LeafPairInput& in, std::uint32_t* touch) noexcept {
   }
 }
 
-// Two passes. First the box bound of every pair, stored, and per row the
-// lanes it leaves below the cut; then the full bound only for the registers
-// holding such a lane, the normals computed only when one does. A lane
-// whose box bound reaches the cut keeps it (a valid, if weaker, bound; the
-// lane is no candidate either way); the rule is per lane, so every width
-// stores the same values, the same as one pass deciding register by
-// register. The first pass has no branch on the data, so its rows overlap:
-// in one pass the row's box test and its branch were a third of this
-// function's time (two meshes, AVX-512), and 42% of the leaf pairs there
-// (25% on cold states of the default scene) have no lane left after it.
 template <class F>
 void lower_bounds(const LeafPairInput& in, float cut2, LeafPairBounds& out) noexcept {
   constexpr int W = F::kWidth;
@@ -288,55 +278,46 @@ void lower_bounds(const LeafPairInput& in, float cut2, LeafPairBounds& out) noex
     }
     return;
   }
+  float axis[3], axis2;
+  scale_axis(in.axis, axis, axis2);
   Mapped ma, mb;
   map_leaf<F>(in.a, ma);
   map_leaf<F>(in.b, mb);
   LeafData da, db;
-  leaf_boxes<F>(ma, in.a.count, da);
-  leaf_boxes<F>(mb, in.b.count, db);
+  leaf_data<F>(ma, in.a.count, axis, da);
+  leaf_data<F>(mb, in.b.count, axis, db);
   const float perturb = (in.a.perturb + in.b.perturb) * kPerturbFactor;
   const float box_slack = (perturb + kBoxSlack * in.extent) * kRoundUp;
   const float axis_slack = (3.0f * perturb + kAxisSlack * in.extent) * kRoundUp;
   const F zero = F::broadcast(0.0f), tiny = F::broadcast(kTiny), shrink = F::broadcast(kShrink);
-  const F cut = F::broadcast(cut2);
-  std::uint32_t near[kLeafLanes];  // per row: valid lanes whose box bound does not reach the cut
-  std::uint32_t any_near = 0;
-  {
-    const F slack = F::broadcast(box_slack);
-    for (int i = 0; i < in.a.count; ++i) {
-      std::uint32_t m = 0;  // lanes whose box bound reaches the cut
-      for (int t = 0; t < kLeafLanes && t < in.b.count; t += W) {
+  const F cut = F::broadcast(cut2), inv_ax2 = F::broadcast(1.0f / axis2);
+  for (int i = 0; i < in.a.count; ++i) {
+    std::uint32_t m = 0;
+    const F inv_na2 = F::broadcast(da.inv_n2[i]);
+    for (int t = 0; t < kLeafLanes && t < in.b.count; t += W) {
+      // Box bound first. A lane whose box bound reaches the cut keeps it
+      // (a valid, if weaker, bound; the lane is no candidate either way);
+      // the rule is per lane, so every width stores the same values, and a
+      // register whose valid lanes all reach the cut skips the rest.
+      F box_lb;
+      {
         F bsum = zero;
+        const F slack = F::broadcast(box_slack);
         for (int k = 0; k < 3; ++k) {
           const F blo = F::load(&db.lo[k][t]), bhi = F::load(&db.hi[k][t]);
           const F alo = F::broadcast(da.lo[k][i]), ahi = F::broadcast(da.hi[k][i]);
           const F gk = max(max(blo - ahi, alo - bhi) - slack, zero);
           bsum = bsum + gk * gk;
         }
-        F box_lb = bsum * shrink;
+        box_lb = bsum * shrink;
         box_lb = select(box_lb.v < tiny.v, zero, box_lb);
-        box_lb.store(&out.lower2[i][t]);
-        m |= lanes::movemask<F>(box_lb.v >= cut.v) << t;
       }
-      near[i] = ~m & valid;
-      any_near |= near[i];
-    }
-  }
-  for (int i = 0; i < in.a.count; ++i) out.candidates[i] = 0;
-  if (any_near == 0) return;
-  float axis[3], axis2;
-  scale_axis(in.axis, axis, axis2);
-  leaf_normals<F>(ma, in.a.count, axis, da);
-  leaf_normals<F>(mb, in.b.count, axis, db);
-  const F inv_ax2 = F::broadcast(1.0f / axis2);
-  for (int i = 0; i < in.a.count; ++i) {
-    if (near[i] == 0) continue;
-    std::uint32_t m = 0;
-    const F inv_na2 = F::broadcast(da.inv_n2[i]);
-    for (int t = 0; t < kLeafLanes && t < in.b.count; t += W) {
-      if (((near[i] >> t) & lane_mask(W)) == 0) continue;
-      const F box_lb = F::load(&out.lower2[i][t]);
       const auto box_far = box_lb.v >= cut.v;
+      const std::uint32_t lanes_here = (valid >> t) & lane_mask(W);
+      if ((lanes::movemask<F>(box_far) & lanes_here) == lanes_here) {
+        box_lb.store(&out.lower2[i][t]);
+        continue;
+      }
       const Gaps<F> g = pair_gaps<F>(ma, mb, da, db, i, t, box_slack, axis_slack);
       const F bx = max(g.box[0], zero), by = max(g.box[1], zero), bz = max(g.box[2], zero);
       F lb = bx * bx + by * by + bz * bz;
