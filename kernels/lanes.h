@@ -30,8 +30,9 @@ struct VFloat {
 
   // x - 0 is x for every x (a -0 stays -0), so the compiler drops the
   // subtraction and emits a bare broadcast; V{} + x, as before, turned -0
-  // into +0 and so cost an add per broadcast (332 of them in the leaf
-  // prefilters; 3% of two-mesh distance and cold full checks). No bound here
+  // into +0 and so cost an add per broadcast (324 of them in the AVX-512
+  // build's prefilters; 3% of two-mesh distance and cold full checks,
+  // thread CPU). No bound here
   // depends on the sign of a zero: every gap has a positive slack taken off.
   static VFloat broadcast(float x) noexcept {
     VFloat r;
