@@ -32,8 +32,8 @@ struct VFloat {
   // subtraction and emits a bare broadcast; V{} + x, as before, turned -0
   // into +0 and so cost an add per broadcast (324 of them in the AVX-512
   // build's prefilters; 3% of two-mesh distance and cold full checks,
-  // thread CPU). No bound here
-  // depends on the sign of a zero: every gap has a positive slack taken off.
+  // thread CPU). No bound here depends on the sign of a zero: every gap
+  // has a positive slack taken off.
   static VFloat broadcast(float x) noexcept {
     VFloat r;
     r.v = x - V{};
