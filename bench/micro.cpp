@@ -219,15 +219,9 @@ LeafPairs make_leaf_pairs(std::size_t n, std::uint64_t seed) {
     lp.working_b.push_back(w);
   }
   for (std::size_t i = 0; i < n; ++i) {
-    LeafSide sa, sb;
-    sa.soa = lp.a[i].soa.data();
-    sa.stride = kLeafLanes + kSoaPadding;
-    sa.size = 2e3;
-    sb.soa = lp.b[i].soa.data();
-    sb.stride = kLeafLanes + kSoaPadding;
-    sb.l = lp.map_b[i].data();
-    sb.t = lp.map_b[i].data() + 9;
-    sb.size = 2e3;
+    const LeafSide sa = make_leaf_side(lp.a[i].soa.data(), kLeafLanes + kSoaPadding, nullptr, nullptr, 2e3);
+    const LeafSide sb = make_leaf_side(lp.b[i].soa.data(), kLeafLanes + kSoaPadding, lp.map_b[i].data(),
+                                       lp.map_b[i].data() + 9, 2e3);
     LeafPairInput in;
     make_leaf_pair(sa, 0, kLeafLanes, lp.a[i].lo, lp.a[i].hi, sb, 0, kLeafLanes, lp.b[i].lo,
                    lp.b[i].hi, in);

@@ -4,8 +4,9 @@
 // kernels/leaf_bounds.h.
 #include "kernels/leaf_bounds.h"
 
+#include <bit>
 #include <cmath>
-#include <limits>
+#include <cstdint>
 
 namespace plancheck {
 
@@ -13,9 +14,13 @@ namespace {
 
 constexpr double kU = 0x1p-24;
 
+// x >= 0 (every value rounded here is) rounded up to float. The next float
+// up from a non-negative finite one is its bit pattern plus one (0 to the
+// smallest subnormal, the largest finite to infinity): nextafter's answer
+// without its out-of-line call.
 float float_up(double x) noexcept {
   float f = static_cast<float>(x);
-  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  if (static_cast<double>(f) < x) f = std::bit_cast<float>(std::bit_cast<std::uint32_t>(f) + 1u);
   return f;
 }
 
@@ -52,18 +57,10 @@ double view(const LeafSide& s, std::uint32_t first, int count, const float* lo, 
     big = a > big ? a : big;
   }
   radius = radius * (1.0 + 1e-15) + 1e-15 * big + 1e-300;
-  double row = 1.0;  // S
-  if (s.l != nullptr) {
-    row = 0.0;
-    for (int r = 0; r < 3; ++r) {
-      const double sum = std::fabs(s.l[3 * r]) + std::fabs(s.l[3 * r + 1]) + std::fabs(s.l[3 * r + 2]);
-      row = sum > row ? sum : row;
-    }
-  }
   double off[3];
   for (int k = 0; k < 3; ++k) off[k] = w[k] - origin[k];
-  for (int c = 0; c < 9; ++c)
-    v.map[c] = s.l == nullptr ? (c % 4 == 0 ? 1.0f : 0.0f) : static_cast<float>(s.l[c]);
+  for (int c = 0; c < 9; ++c) v.map[c] = s.l_float[c];
+  const double row = s.row;
   for (int k = 0; k < 3; ++k) v.map[9 + k] = static_cast<float>(off[k]);
   const double off_max = amax(off);
   const double p = kU * (6.1 * row * radius + 5.1 * off_max) + 2e-15 * (s.size + amax(origin)) + 1e-300;
@@ -72,6 +69,24 @@ double view(const LeafSide& s, std::uint32_t first, int count, const float* lo, 
 }
 
 }  // namespace
+
+LeafSide make_leaf_side(const float* soa, std::size_t stride, const double* l, const double* t,
+                        double size) noexcept {
+  LeafSide s;
+  s.soa = soa;
+  s.stride = stride;
+  s.size = size;
+  if (l == nullptr) return s;
+  s.l = l;
+  s.t = t;
+  for (int c = 0; c < 9; ++c) s.l_float[c] = static_cast<float>(l[c]);
+  s.row = 0.0;
+  for (int r = 0; r < 3; ++r) {
+    const double sum = std::fabs(l[3 * r]) + std::fabs(l[3 * r + 1]) + std::fabs(l[3 * r + 2]);
+    s.row = sum > s.row ? sum : s.row;
+  }
+  return s;
+}
 
 void make_leaf_pair(const LeafSide& a, std::uint32_t first_a, int count_a, const float* lo_a,
                     const float* hi_a, const LeafSide& b, std::uint32_t first_b, int count_b,

@@ -78,6 +78,34 @@ inline double obb_lower(const ObbRelative& p, double dist_centres, const double*
   return std::max(0.0, gap - tol);
 }
 
+// Distance lower bound of the balls around two nodes (centres ca, cb, radii
+// ra, rb), d2 = |cb - ca|^2 as the caller computed it: |cb - ca| - ra - rb
+// less a tolerance, `extra` (the rounding of the caller's inputs) plus a
+// few ulps of every term.
+inline double ball_gap(double d2, const double* ca, const double* cb, double ra, double rb,
+                       double extra) noexcept {
+  const double centres = std::sqrt(d2);
+  const double tol = extra + 1e-12 * (centres + ra + rb + std::abs(cb[0]) + std::abs(cb[1]) +
+                                      std::abs(cb[2]) + std::abs(ca[0]) + std::abs(ca[1]) +
+                                      std::abs(ca[2]));
+  return centres - ra - rb - tol;
+}
+
+// True when ball_gap(d2, ...) < cut (1 - 1e-15) for any centres and any
+// extra >= 0, without its square root: so a test "ball_gap >= cut" (or its
+// square, times a factor <= 1, against fl(cut^2)) fails. Proof, u = 2^-53:
+// the computed sqrt is <= sqrt(d2) (1 + u); ball_gap <= fl(fl(centres - ra)
+// - rb) (tol >= 0, rounding is monotonic) <= centres - ra - rb + 3u
+// (centres + ra + rb); and d2 < fl(reach^2) with reach = fl((ra + rb + cut)
+// (1 - 1e-12)) gives sqrt(d2) < (ra + rb + cut)(1 - 1e-12)(1 + 4u). Together
+// ball_gap < cut - 1e-12 (ra + rb + cut) + 8u (centres + ra + rb + cut),
+// and centres < 1.01 (ra + rb + cut) here, so the last two terms sum to
+// less than -1e-15 cut. NaN or infinite d2: false (nothing proven).
+inline bool balls_within(double d2, double ra, double rb, double cut) noexcept {
+  const double reach = (ra + rb + cut) * (1.0 - 1e-12);
+  return d2 < reach * reach;
+}
+
 // An oriented box in the frame of an axis-aligned one: axis rows are unit
 // vectors in that frame, half points at its three half extents.
 struct PosedObb {

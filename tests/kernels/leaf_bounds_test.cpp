@@ -18,7 +18,9 @@
 #include <bit>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
+#include <utility>
 #include <vector>
 
 namespace plancheck {
@@ -72,15 +74,8 @@ struct Side {
   }
 
   LeafSide leaf_side() const {
-    LeafSide s;
-    s.soa = soa.data();
-    s.stride = stride;
-    s.size = size_ * (1.0 + 1e-6);
-    if (!identity) {
-      s.l = l;
-      s.t = t;
-    }
-    return s;
+    return make_leaf_side(soa.data(), stride, identity ? nullptr : l, identity ? nullptr : t,
+                          size_ * (1.0 + 1e-6));
   }
 
   double size_ = 0.0;
@@ -415,6 +410,115 @@ TEST(LeafBounds, FewNearColumnsOrRowsKeepEveryBit) {
               static_cast<unsigned long long>(totals.proven_apart));
   EXPECT_GT(totals.touching, 5000u);
   EXPECT_GT(totals.proven_apart, totals.pairs / 2);
+}
+
+// make_leaf_pair as it was before make_leaf_side (the float map and the row
+// sum per leaf pair, float rounding up by nextafter): the reference the
+// per-query constants must reproduce bit for bit.
+double reference_view(const LeafSide& s, std::uint32_t first, int count, const float* lo, const float* hi,
+                      const double* w, const double* origin, LeafView& v) {
+  constexpr double kU = 0x1p-24;
+  auto amax = [](const double* x) { return std::max({std::abs(x[0]), std::abs(x[1]), std::abs(x[2])}); };
+  auto up = [](double x) {
+    float f = static_cast<float>(x);
+    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+  };
+  v.soa = s.soa + first;
+  v.stride = s.stride;
+  v.count = count;
+  double radius = 0.0, big = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double h = 0.5 * (static_cast<double>(hi[k]) - static_cast<double>(lo[k]));
+    radius = h > radius ? h : radius;
+    const double a = std::fabs(static_cast<double>(lo[k])) + std::fabs(static_cast<double>(hi[k]));
+    big = a > big ? a : big;
+  }
+  radius = radius * (1.0 + 1e-15) + 1e-15 * big + 1e-300;
+  double row = 1.0;
+  if (s.l != nullptr) {
+    row = 0.0;
+    for (int r = 0; r < 3; ++r) {
+      const double sum = std::fabs(s.l[3 * r]) + std::fabs(s.l[3 * r + 1]) + std::fabs(s.l[3 * r + 2]);
+      row = sum > row ? sum : row;
+    }
+  }
+  double off[3];
+  for (int k = 0; k < 3; ++k) off[k] = w[k] - origin[k];
+  for (int c = 0; c < 9; ++c)
+    v.map[c] = s.l == nullptr ? (c % 4 == 0 ? 1.0f : 0.0f) : static_cast<float>(s.l[c]);
+  for (int k = 0; k < 3; ++k) v.map[9 + k] = static_cast<float>(off[k]);
+  const double off_max = amax(off);
+  const double p = kU * (6.1 * row * radius + 5.1 * off_max) + 2e-15 * (s.size + amax(origin)) + 1e-300;
+  v.perturb = up(p);
+  return up((row * radius * (1.0 + 1e-6) + off_max + p) * (1.0 + 1e-6));
+}
+
+void expect_same_view(const LeafView& x, const LeafView& y) {
+  EXPECT_EQ(x.soa, y.soa);
+  EXPECT_EQ(x.stride, y.stride);
+  EXPECT_EQ(x.count, y.count);
+  for (int c = 0; c < 12; ++c) EXPECT_EQ(std::bit_cast<std::uint32_t>(x.map[c]), std::bit_cast<std::uint32_t>(y.map[c])) << c;
+  EXPECT_EQ(std::bit_cast<std::uint32_t>(x.perturb), std::bit_cast<std::uint32_t>(y.perturb));
+}
+
+// The side's constants computed once a query give the very input the per
+// pair computation gave, for identity, rigid and scaled maps, leaves from
+// tiny to far off (offsets up to 1e6).
+TEST(LeafBounds, PerQuerySideGivesThePerPairInput) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), pos(0.0, 1.0);
+  for (int n = 0; n < 20000; ++n) {
+    Side a, b;
+    const double scale = std::pow(10.0, -4.0 + 6.0 * pos(rng));
+    const double offset = std::pow(10.0, 6.0 * pos(rng));
+    for (Side* side : {&a, &b}) {
+      const double c[3] = {offset * u(rng), offset * u(rng), offset * u(rng)};
+      const int count = 1 + static_cast<int>(pos(rng) * 16.0) % 16;
+      for (int t = 0; t < count; ++t) {
+        Tri9 tri;
+        for (int k = 0; k < 9; ++k) tri[k] = c[k % 3] + scale * u(rng);
+        side->own.push_back(tri);
+      }
+    }
+    if (n % 3 != 0) {
+      const Eigen::Matrix3d rot = random_rotation(rng) * (n % 3 == 2 ? 0.5 + pos(rng) : 1.0);
+      b.identity = false;
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) b.l[3 * r + c] = rot(r, c);
+        b.t[r] = offset * u(rng);
+      }
+    }
+    a.finish();
+    b.finish();
+    const int na = static_cast<int>(a.own.size()), nb = static_cast<int>(b.own.size());
+    LeafPairInput in;
+    make_leaf_pair(a.leaf_side(), 0, na, a.lo, a.hi, b.leaf_side(), 0, nb, b.lo, b.hi, in);
+    // The reference on sides carrying only soa, stride, l, t and size.
+    LeafSide ra, rb;
+    for (auto [from, to] : {std::pair{&a, &ra}, std::pair{&b, &rb}}) {
+      const LeafSide made = from->leaf_side();
+      to->soa = made.soa;
+      to->stride = made.stride;
+      to->l = made.l;
+      to->t = made.t;
+      to->size = made.size;
+    }
+    double oa[3], ob[3], wa[3], wb[3];
+    leaf_origin(a.lo, a.hi, oa);
+    leaf_origin(b.lo, b.hi, ob);
+    for (int r = 0; r < 3; ++r) {
+      wa[r] = oa[r];
+      wb[r] = b.identity ? ob[r] : b.l[3 * r] * ob[0] + b.l[3 * r + 1] * ob[1] + b.l[3 * r + 2] * ob[2] + b.t[r];
+    }
+    LeafPairInput ref;
+    const float ea = reference_view(ra, 0, na, a.lo, a.hi, wa, wa, ref.a);
+    const float eb = reference_view(rb, 0, nb, b.lo, b.hi, wb, wa, ref.b);
+    ASSERT_NO_FATAL_FAILURE(expect_same_view(in.a, ref.a));
+    ASSERT_NO_FATAL_FAILURE(expect_same_view(in.b, ref.b));
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(in.extent), std::bit_cast<std::uint32_t>(std::max(ea, eb))) << n;
+    for (int k = 0; k < 3; ++k) ASSERT_EQ(in.axis[k], ref.b.map[9 + k]);
+  }
 }
 
 // Far beyond the float range the kernels prove nothing rather than overflow.
