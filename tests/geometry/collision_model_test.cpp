@@ -301,14 +301,14 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
   EXPECT_GT(culled, 0);
 }
 
-// An exact search with nothing to start from runs best-first, one with a
-// bound depth-first (kernels/pair_traversal.h); both settle a leaf's nearest
-// float-bounded pair first until they find one. The same minimum, bit for
+// An exact search with nothing to start from runs best-first until its
+// first bound, one with a bound depth-first (kernels/pair_traversal.h);
+// both settle a leaf's nearest float-bounded pair first until they find
+// one. The same minimum, bit for
 // bit (the smallest of the same kernel values in the same frame), against
 // brute force, on far, grazing and separate poses of rigid and scaled parts,
-// near the origin and at lunar-radius offsets; best-first never expands more
-// node pairs than depth-first from no bound (it expands only pairs below the
-// final best).
+// near the origin and at lunar-radius offsets; in all, fewer node pairs
+// expanded than depth-first from no bound.
 TEST(CollisionModel, BestFirstAndDepthFirstFindTheSameMinimum) {
   struct Case {
     Mesh a, b;
@@ -324,7 +324,8 @@ TEST(CollisionModel, BestFirstAndDepthFirstFindTheSameMinimum) {
        Vec3(1.7374e6, -2.5e5, 3.1e5), 3.0},
   };
   std::mt19937_64 rng(1127);
-  int compared = 0, fewer = 0;
+  int compared = 0;
+  std::size_t bf_pairs = 0, df_pairs = 0;
   for (const Case& c : cases) {
     const CollisionModel a(c.a), b(c.b);
     for (int i = 0; i < testing::case_count(30, 6); ++i) {
@@ -345,8 +346,8 @@ TEST(CollisionModel, BestFirstAndDepthFirstFindTheSameMinimum) {
       ASSERT_TRUE(bf.found);
       ASSERT_TRUE(df.found);
       ASSERT_EQ(bf.distance, df.distance);
-      EXPECT_LE(bf.node_pairs_visited, df.node_pairs_visited);
-      fewer += bf.node_pairs_visited < df.node_pairs_visited;
+      bf_pairs += bf.node_pairs_visited;
+      df_pairs += df.node_pairs_visited;
       const auto va = posed_vertices(c.a, ta), vb = posed_vertices(c.b, tb);
       const auto bd = brute_force_distance(c.a, va, c.b, vb);
       const double scale = 1.0 + va[0].cwiseAbs().maxCoeff();
@@ -357,7 +358,10 @@ TEST(CollisionModel, BestFirstAndDepthFirstFindTheSameMinimum) {
     }
   }
   EXPECT_GT(compared, 25);
-  EXPECT_GT(fewer, 0);  // the two orders differ somewhere
+  // Best-first until the first bound expands fewer node pairs in all (not
+  // at every pose: the depth-first rest may wander where pure best-first
+  // would not).
+  EXPECT_LT(bf_pairs, df_pairs);
 }
 
 // Parts of one leaf each: every search is a single leaf pair, where the
