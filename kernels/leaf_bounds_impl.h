@@ -149,47 +149,43 @@ inline typename F::M lanes_in(std::uint32_t m, int t) noexcept {
   return bits != 0;
 }
 
-// Smallest and largest lane (a tree of shuffles: the serial scalar loops
-// these replace were ~20% of touch_masks, bound by the latency of their
-// min/max chains).
-template <class F>
-inline float lane_min(F x) noexcept {
+// Smallest (kMax false) or largest lane: a tree of shuffles (the serial
+// scalar loops these replace were ~20% of touch_masks, bound by the latency
+// of their min/max chains).
+template <bool kMax, class F>
+inline float lane_extreme(F x) noexcept {
   constexpr int W = F::kWidth;
+  const auto pick = [](F a, F b) {
+    if constexpr (kMax)
+      return max(a, b);
+    else
+      return min(a, b);
+  };
   auto v = x.v;
   if constexpr (W >= 16)
-    v = min(F{v}, F{__builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7)}).v;
+    v = pick(F{v}, F{__builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7)}).v;
   if constexpr (W >= 8) {
     if constexpr (W == 8)
-      v = min(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3)}).v;
+      v = pick(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3)}).v;
     else
-      v = min(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11)}).v;
+      v = pick(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11)}).v;
   }
   if constexpr (W >= 4) {
     float r = v[0];
-    for (int l = 1; l < 4; ++l) r = v[l] < r ? v[l] : r;
+    for (int l = 1; l < 4; ++l) r = (kMax ? v[l] > r : v[l] < r) ? v[l] : r;
     return r;
   }
   return v[0];
 }
 
 template <class F>
+inline float lane_min(F x) noexcept {
+  return lane_extreme<false>(x);
+}
+
+template <class F>
 inline float lane_max(F x) noexcept {
-  constexpr int W = F::kWidth;
-  auto v = x.v;
-  if constexpr (W >= 16)
-    v = max(F{v}, F{__builtin_shufflevector(v, v, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7)}).v;
-  if constexpr (W >= 8) {
-    if constexpr (W == 8)
-      v = max(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3)}).v;
-    else
-      v = max(F{v}, F{__builtin_shufflevector(v, v, 4, 5, 6, 7, 0, 1, 2, 3, 12, 13, 14, 15, 8, 9, 10, 11)}).v;
-  }
-  if constexpr (W >= 4) {
-    float r = v[0];
-    for (int l = 1; l < 4; ++l) r = v[l] > r ? v[l] : r;
-    return r;
-  }
-  return v[0];
+  return lane_extreme<true>(x);
 }
 
 // Union of the boxes of the triangles in mask m (not empty). The same set

@@ -185,6 +185,21 @@ Eigen::Matrix3d random_rotation(std::mt19937_64& rng) {
   return q.toRotationMatrix();
 }
 
+// b made of `wanted` as given (as_is) or turned by a random rotation and
+// moved by a random shift within `offset`, then checked against a.
+void check_against(const Side& a, const std::vector<Tri9>& wanted, bool as_is, double offset,
+                   std::mt19937_64& rng, std::uniform_real_distribution<double>& u, Totals& totals) {
+  Side b;
+  if (as_is) {
+    b.own = wanted;
+  } else {
+    const Eigen::Vector3d shift(offset * u(rng), offset * u(rng), offset * u(rng));
+    place(b, wanted, random_rotation(rng), shift);
+  }
+  b.finish();
+  check_pair(a, b, totals);
+}
+
 Tri9 permuted(const Tri9& t, int perm) {
   static const int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
   Tri9 r;
@@ -279,7 +294,7 @@ TEST(LeafBounds, RandomLeavesNeverRejectTouchingPairs) {
     const double offset = kOffsets[round % 4];
     const double c[3] = {offset * u(rng), offset * u(rng), offset * u(rng)};
     const double s = std::pow(10.0, -3.0 + 3.0 * (u(rng) + 1.0) / 2.0);
-    Side a, b;
+    Side a;
     const int na = 1 + static_cast<int>(rng() % 16), nb = 1 + static_cast<int>(rng() % 16);
     for (int i = 0; i < na; ++i) a.own.push_back(random_triangle(rng, c, s, static_cast<int>(rng() % 8)));
     a.finish();
@@ -287,14 +302,7 @@ TEST(LeafBounds, RandomLeavesNeverRejectTouchingPairs) {
     const double spread = s * (rng() % 3);  // overlapping, adjacent or apart leaves
     const double cb[3] = {c[0] + spread * u(rng), c[1] + spread * u(rng), c[2] + spread * u(rng)};
     for (int j = 0; j < nb; ++j) wanted.push_back(random_triangle(rng, cb, s, static_cast<int>(rng() % 8)));
-    if (round % 2 == 0) {
-      b.own = wanted;
-    } else {
-      const Eigen::Vector3d shift(offset * u(rng), offset * u(rng), offset * u(rng));
-      place(b, wanted, random_rotation(rng), shift);
-    }
-    b.finish();
-    check_pair(a, b, totals);
+    check_against(a, wanted, round % 2 == 0, offset, rng, u, totals);
     if (HasFatalFailure()) return;
   }
   std::printf("pairs %llu, touching %llu, proven apart %llu, with a bound %llu\n",
@@ -390,18 +398,11 @@ TEST(LeafBounds, FewNearColumnsOrRowsKeepEveryBit) {
     std::shuffle(few.begin(), few.end(), rng);
     // Few near columns (b = few) or few near rows (a = few).
     const bool few_rows = round % 2 == 1;
-    Side a, b;
+    Side a;
     a.own = few_rows ? few : big;
     a.finish();
     const std::vector<Tri9>& wanted = few_rows ? big : few;
-    if (round % 3 != 2) {
-      b.own = wanted;
-    } else {
-      const Eigen::Vector3d shift(offset * u(rng), offset * u(rng), offset * u(rng));
-      place(b, wanted, random_rotation(rng), shift);
-    }
-    b.finish();
-    check_pair(a, b, totals);
+    check_against(a, wanted, round % 3 != 2, offset, rng, u, totals);
     if (HasFatalFailure()) return;
   }
   std::printf("pairs %llu, touching %llu, proven apart %llu\n",
