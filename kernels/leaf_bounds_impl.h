@@ -240,82 +240,52 @@ struct Gaps {
   F box[3], nb, na, ax;
 };
 
-template <class F>
+// kColumns false: a's triangle `one` (broadcast) against b's lanes t.. ;
+// true: b's triangle `one` (broadcast) against a's lanes t.. . Every gap is
+// the same expression on the same operands either way (only which operand
+// is broadcast differs), so each pair's separation has the same bits
+// whichever way touch_masks computes it.
+template <class F, bool kColumns = false>
 inline Gaps<F> pair_gaps(const Mapped& ma, const Mapped& mb, const LeafData& da,
-                         const LeafData& db, int i, int t, float box_slack_s,
+                         const LeafData& db, int one, int t, float box_slack_s,
                          float axis_slack_s) noexcept {
+  const auto a = [&](const float* row) {
+    if constexpr (kColumns)
+      return F::load(row + t);
+    else
+      return F::broadcast(row[one]);
+  };
+  const auto b = [&](const float* row) {
+    if constexpr (kColumns)
+      return F::broadcast(row[one]);
+    else
+      return F::load(row + t);
+  };
   const F box_slack = F::broadcast(box_slack_s);
   const F axis_slack = F::broadcast(axis_slack_s);
   Gaps<F> g;
   for (int k = 0; k < 3; ++k) {
-    const F blo = F::load(&db.lo[k][t]), bhi = F::load(&db.hi[k][t]);
-    const F alo = F::broadcast(da.lo[k][i]), ahi = F::broadcast(da.hi[k][i]);
+    const F blo = b(db.lo[k]), bhi = b(db.hi[k]);
+    const F alo = a(da.lo[k]), ahi = a(da.hi[k]);
     g.box[k] = max(blo - ahi, alo - bhi) - box_slack;
   }
-  // a_i's vertices on b's normals.
+  // a's vertices on b's normals.
   {
-    const F nx = F::load(&db.n[0][t]), ny = F::load(&db.n[1][t]), nz = F::load(&db.n[2][t]);
+    const F nx = b(db.n[0]), ny = b(db.n[1]), nz = b(db.n[2]);
     F p[3];
-    for (int v = 0; v < 3; ++v)
-      p[v] = dot(nx, ny, nz, F::broadcast(ma.c[3 * v][i]), F::broadcast(ma.c[3 * v + 1][i]),
-                 F::broadcast(ma.c[3 * v + 2][i]));
+    for (int v = 0; v < 3; ++v) p[v] = dot(nx, ny, nz, a(ma.c[3 * v]), a(ma.c[3 * v + 1]), a(ma.c[3 * v + 2]));
     const F lo = min(min(p[0], p[1]), p[2]), hi = max(max(p[0], p[1]), p[2]);
-    g.nb = max(lo - F::load(&db.own_hi[t]), F::load(&db.own_lo[t]) - hi) - axis_slack;
+    g.nb = max(lo - b(db.own_hi), b(db.own_lo) - hi) - axis_slack;
   }
-  // b's vertices on a_i's normal.
+  // b's vertices on a's normals.
   {
-    const F nx = F::broadcast(da.n[0][i]), ny = F::broadcast(da.n[1][i]),
-            nz = F::broadcast(da.n[2][i]);
+    const F nx = a(da.n[0]), ny = a(da.n[1]), nz = a(da.n[2]);
     F p[3];
-    for (int v = 0; v < 3; ++v)
-      p[v] = dot(nx, ny, nz, F::load(&mb.c[3 * v][t]), F::load(&mb.c[3 * v + 1][t]),
-                 F::load(&mb.c[3 * v + 2][t]));
+    for (int v = 0; v < 3; ++v) p[v] = dot(nx, ny, nz, b(mb.c[3 * v]), b(mb.c[3 * v + 1]), b(mb.c[3 * v + 2]));
     const F lo = min(min(p[0], p[1]), p[2]), hi = max(max(p[0], p[1]), p[2]);
-    g.na = max(lo - F::broadcast(da.own_hi[i]), F::broadcast(da.own_lo[i]) - hi) - axis_slack;
+    g.na = max(lo - a(da.own_hi), a(da.own_lo) - hi) - axis_slack;
   }
-  g.ax = max(F::load(&db.axis_lo[t]) - F::broadcast(da.axis_hi[i]),
-             F::broadcast(da.axis_lo[i]) - F::load(&db.axis_hi[t])) -
-         axis_slack;
-  return g;
-}
-
-// The same gaps with the roles of the lanes swapped: b_j against a's lanes
-// t.. . Every gap is the same expression on the same operands as in
-// pair_gaps (only which operand is broadcast differs), so each pair's
-// separation has the same bits whichever way it is computed.
-template <class F>
-inline Gaps<F> pair_gaps_by_column(const Mapped& ma, const Mapped& mb, const LeafData& da,
-                                   const LeafData& db, int j, int t, float box_slack_s,
-                                   float axis_slack_s) noexcept {
-  const F box_slack = F::broadcast(box_slack_s);
-  const F axis_slack = F::broadcast(axis_slack_s);
-  Gaps<F> g;
-  for (int k = 0; k < 3; ++k) {
-    const F blo = F::broadcast(db.lo[k][j]), bhi = F::broadcast(db.hi[k][j]);
-    const F alo = F::load(&da.lo[k][t]), ahi = F::load(&da.hi[k][t]);
-    g.box[k] = max(blo - ahi, alo - bhi) - box_slack;
-  }
-  {
-    const F nx = F::broadcast(db.n[0][j]), ny = F::broadcast(db.n[1][j]), nz = F::broadcast(db.n[2][j]);
-    F p[3];
-    for (int v = 0; v < 3; ++v)
-      p[v] = dot(nx, ny, nz, F::load(&ma.c[3 * v][t]), F::load(&ma.c[3 * v + 1][t]),
-                 F::load(&ma.c[3 * v + 2][t]));
-    const F lo = min(min(p[0], p[1]), p[2]), hi = max(max(p[0], p[1]), p[2]);
-    g.nb = max(lo - F::broadcast(db.own_hi[j]), F::broadcast(db.own_lo[j]) - hi) - axis_slack;
-  }
-  {
-    const F nx = F::load(&da.n[0][t]), ny = F::load(&da.n[1][t]), nz = F::load(&da.n[2][t]);
-    F p[3];
-    for (int v = 0; v < 3; ++v)
-      p[v] = dot(nx, ny, nz, F::broadcast(mb.c[3 * v][j]), F::broadcast(mb.c[3 * v + 1][j]),
-                 F::broadcast(mb.c[3 * v + 2][j]));
-    const F lo = min(min(p[0], p[1]), p[2]), hi = max(max(p[0], p[1]), p[2]);
-    g.na = max(lo - F::load(&da.own_hi[t]), F::load(&da.own_lo[t]) - hi) - axis_slack;
-  }
-  g.ax = max(F::broadcast(db.axis_lo[j]) - F::load(&da.axis_hi[t]),
-             F::load(&da.axis_lo[t]) - F::broadcast(db.axis_hi[j])) -
-         axis_slack;
+  g.ax = max(b(db.axis_lo) - a(da.axis_hi), a(da.axis_lo) - b(db.axis_hi)) - axis_slack;
   return g;
 }
 
@@ -378,7 +348,7 @@ void touch_masks(const LeafPairInput& in, std::uint32_t* touch) noexcept {
     for (std::uint32_t c = cols; c != 0; c &= c - 1) {
       const int j = std::countr_zero(c);
       for (int t = 0; t < kLeafLanes && t < in.a.count; t += W) {
-        const F sep = separation(pair_gaps_by_column<F>(ma, mb, da, db, j, t, box_slack, axis_slack));
+        const F sep = separation(pair_gaps<F, true>(ma, mb, da, db, j, t, box_slack, axis_slack));
         for (std::uint32_t m = (lanes::movemask<F>(sep.v <= zero.v) << t) & rows; m != 0; m &= m - 1)
           touch[std::countr_zero(m)] |= 1u << j;
       }
