@@ -612,10 +612,12 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     return h.pair >= 0 && static_cast<std::size_t>(h.pair) < pairs_.size() &&
            std::isfinite(lower[static_cast<std::size_t>(h.pair)]);
   };
-  // Per pair, a lower bound on its distance the coarse pass proved (0: none).
+  // Per pair, a lower bound on its distance the coarse pass proved (0: none;
+  // empty when no coarse pass ran).
   std::vector<double>& coarse_bound = scratch.coarse;
-  coarse_bound.assign(pairs_.size(), 0.0);
+  coarse_bound.clear();
   if (!out.collision && !usable(hint) && request.rel_tolerance < kProbeTolerance && !verdict_only) {
+    coarse_bound.assign(pairs_.size(), 0.0);
     // A cold start (no previous state's pair to try first). Part boxes order
     // the pairs poorly, and every pair searched under a loose bound costs
     // several times a seeded search, so a coarse pass first finds a close
@@ -682,7 +684,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     }
     // Proven by the coarse pass at least as far as the best: its search
     // could not find a closer pair (later pairs in order still may).
-    if (!seeded && coarse_bound[k] >= out.min_distance) continue;
+    if (!seeded && !coarse_bound.empty() && coarse_bound[k] >= out.min_distance) continue;
     const int a = pairs_[k].a, b = pairs_[k].b;
     DistanceRequest q{out.min_distance, request.rel_tolerance, kDistanceTieTolerance};
     // Without a contact every pair here was proven apart at this very pose:
