@@ -50,6 +50,10 @@ struct CollideRequest {
   // hold no contact, so the listing, its order and the contact are the same
   // either way; false only for the tests that show it.
   bool box_cull = true;
+  // The same descent's cull of a leaf against the other side's node box by
+  // the leaf's triangles' planes and the box's face axes (collision_model.cpp):
+  // the same guarantee as box_cull; false only for the tests that show it.
+  bool leaf_cull = true;
 };
 
 struct CollideResult {
