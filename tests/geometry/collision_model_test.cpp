@@ -312,9 +312,11 @@ Mesh make_box(const Vec3& c, const Vec3& h) {
 }
 
 // The cull of a leaf's triangles against the other side's node boxes
-// (CollideRequest::leaf_cull) against the descent without it: the same flag,
-// the same listing in the same order at every limit, the same contact bit
-// for bit, never more node pairs. Coarse parts (a slab of 12 triangles, a
+// (CollideRequest::leaf_cull, DistanceRequest::leaf_cull) against the
+// descents without it: the same flag, the same listing in the same order at
+// every limit, the same contact bit for bit; the same distance answer bit
+// for bit with no bound (best-first), below a bound, with a tie tolerance
+// and as a first-below question; never more node pairs. Coarse parts (a slab of 12 triangles, a
 // sphere of few, large triangles) against fine ones, as either side (both
 // ways through the cull), inside their hulls, crossing their faces and
 // moved to within a relative 1e-9 and 1e-12 of touching them, near the
@@ -334,7 +336,7 @@ TEST(CollisionModel, LeafCullChangesNoListingOrContact) {
       {testing::make_sphere(Vec3::Zero(), 1.5, 5, 7), testing::make_soup(13, 600, Vec3::Zero(), 0.4, 0.1), moon, 1.8},
   };
   std::mt19937_64 rng(91);
-  int colliding = 0, culled_a = 0, culled_b = 0, grazing = 0, poses = 0;
+  int colliding = 0, culled_a = 0, culled_b = 0, culled_distance = 0, grazing = 0, poses = 0;
   // Compares at every limit; counts the pose's flag and culls at limit 0.
   const auto compare = [&](const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
                            int* collided, int* culled) {
@@ -356,6 +358,21 @@ TEST(CollisionModel, LeafCullChangesNoListingOrContact) {
       }
       if (limit == 0 && collided) *collided += rf.collide;
       if (limit == 0 && culled) *culled += rf.node_pairs_visited < rs.node_pairs_visited;
+    }
+    for (int kind = 0; kind < 4; ++kind) {
+      SCOPED_TRACE("distance kind " + std::to_string(kind));
+      DistanceRequest qf;
+      if (kind > 0) qf.upper_bound = 0.25;
+      if (kind == 2) qf.abs_tolerance = 1e-6;
+      qf.first_below = kind == 3;
+      DistanceRequest qs = qf;
+      qs.leaf_cull = false;
+      DistanceResult df, ds;
+      distance(a, ta, b, tb, qf, df);
+      distance(a, ta, b, tb, qs, ds);
+      ASSERT_TRUE(testing::same_answer(df, ds));
+      ASSERT_LE(df.node_pairs_visited, ds.node_pairs_visited);
+      culled_distance += df.node_pairs_visited < ds.node_pairs_visited;
     }
   };
   for (const Case& c : cases) {
@@ -391,6 +408,7 @@ TEST(CollisionModel, LeafCullChangesNoListingOrContact) {
   EXPECT_LT(colliding, poses);
   EXPECT_GT(culled_a, poses / 10);
   EXPECT_GT(culled_b, poses / 10);
+  EXPECT_GT(culled_distance, poses / 10);
   EXPECT_GT(grazing, 0);
 }
 
