@@ -50,6 +50,10 @@ struct CollideRequest {
   // hold no contact, so the listing, its order and the contact are the same
   // either way; false only for the tests that show it.
   bool box_cull = true;
+  // The same descent's cull of a leaf against the other side's node box by
+  // the leaf's triangles' planes and the box's face axes (collision_model.cpp):
+  // the same guarantee as box_cull; false only for the tests that show it.
+  bool leaf_cull = true;
 };
 
 struct CollideResult {
@@ -88,6 +92,10 @@ struct DistanceRequest {
   // The caller's exact collision test (collide) found no contact: the
   // search skips its own. Only set it after such a test at this very pose.
   bool known_disjoint = false;
+  // The descent's cull of a leaf against the other side's node box
+  // (CollideRequest::leaf_cull), here beyond the best distance: the same
+  // answer either way; false only for the tests that show it.
+  bool leaf_cull = true;
 };
 
 struct DistanceResult {

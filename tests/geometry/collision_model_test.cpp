@@ -301,6 +301,117 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
   EXPECT_GT(culled, 0);
 }
 
+// A closed box of 12 triangles (one leaf), half extents h, centred at c.
+Mesh make_box(const Vec3& c, const Vec3& h) {
+  Mesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.push_back(c + Vec3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z()));
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
+// The cull of a leaf's triangles against the other side's node boxes
+// (CollideRequest::leaf_cull, DistanceRequest::leaf_cull) against the
+// descents without it: the same flag, the same listing in the same order at
+// every limit, the same contact bit for bit; the same distance answer bit
+// for bit with no bound (best-first), below a bound, with a tie tolerance
+// and as a first-below question; never more node pairs. Coarse parts (a slab of 12 triangles, a
+// sphere of few, large triangles) against fine ones, as either side (both
+// ways through the cull), inside their hulls, crossing their faces and
+// moved to within a relative 1e-9 and 1e-12 of touching them, near the
+// origin and at lunar-radius offsets.
+TEST(CollisionModel, LeafCullChangesNoListingOrContact) {
+  struct Case {
+    Mesh coarse, fine;
+    Vec3 at;
+    double spread;
+  };
+  const Vec3 moon(1.2e6, -0.9e6, 0.7e6);
+  const Case cases[] = {
+      {make_box(Vec3::Zero(), Vec3(1.0, 0.8, 0.15)), testing::make_sphere(Vec3::Zero(), 0.3, 16, 24), Vec3::Zero(), 1.0},
+      {make_box(Vec3::Zero(), Vec3(1.0, 0.8, 0.15)), testing::make_torus(Vec3::Zero(), 0.3, 0.08, 24, 12), moon, 1.0},
+      {testing::make_sphere(Vec3::Zero(), 1.5, 5, 7), testing::make_torus(Vec3::Zero(), 0.4, 0.1, 24, 12), Vec3::Zero(),
+       1.8},
+      {testing::make_sphere(Vec3::Zero(), 1.5, 5, 7), testing::make_soup(13, 600, Vec3::Zero(), 0.4, 0.1), moon, 1.8},
+  };
+  std::mt19937_64 rng(91);
+  int colliding = 0, culled_a = 0, culled_b = 0, culled_distance = 0, grazing = 0, poses = 0;
+  // Compares at every limit; counts the pose's flag and culls at limit 0.
+  const auto compare = [&](const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+                           int* collided, int* culled) {
+    for (std::size_t limit : {std::size_t{0}, std::size_t{1}, std::size_t{16}, std::size_t{1} << 30}) {
+      SCOPED_TRACE("limit " + std::to_string(limit));
+      DistanceResult contact_fast, contact_slow;
+      CollideRequest fast{limit}, slow{limit};
+      fast.contact = &contact_fast;
+      slow.contact = &contact_slow;
+      slow.leaf_cull = false;
+      CollideResult rf, rs;
+      collide(a, ta, b, tb, fast, rf);
+      collide(a, ta, b, tb, slow, rs);
+      ASSERT_EQ(rf.collide, rs.collide);
+      ASSERT_EQ(rf.triangle_pairs, rs.triangle_pairs);
+      ASSERT_LE(rf.node_pairs_visited, rs.node_pairs_visited);
+      if (rf.collide) {
+        ASSERT_TRUE(testing::same_answer(contact_fast, contact_slow));
+      }
+      if (limit == 0 && collided) *collided += rf.collide;
+      if (limit == 0 && culled) *culled += rf.node_pairs_visited < rs.node_pairs_visited;
+    }
+    for (int kind = 0; kind < 4; ++kind) {
+      SCOPED_TRACE("distance kind " + std::to_string(kind));
+      DistanceRequest qf;
+      if (kind > 0) qf.upper_bound = 0.25;
+      if (kind == 2) qf.abs_tolerance = 1e-6;
+      qf.first_below = kind == 3;
+      DistanceRequest qs = qf;
+      qs.leaf_cull = false;
+      DistanceResult df, ds;
+      distance(a, ta, b, tb, qf, df);
+      distance(a, ta, b, tb, qs, ds);
+      ASSERT_TRUE(testing::same_answer(df, ds));
+      ASSERT_LE(df.node_pairs_visited, ds.node_pairs_visited);
+      culled_distance += df.node_pairs_visited < ds.node_pairs_visited;
+    }
+  };
+  for (const Case& c : cases) {
+    const CollisionModel coarse(c.coarse), fine(c.fine);
+    for (int i = 0; i < testing::case_count(200, 30); ++i) {
+      const Affine ta = random_rigid(rng, c.at, 0.0);
+      const Affine tb = random_rigid(rng, c.at, c.spread);
+      SCOPED_TRACE("pose " + std::to_string(i));
+      ++poses;
+      // The coarse part as a (its leaves against the fine part's nodes), then as b.
+      compare(coarse, ta, fine, tb, &colliding, &culled_a);
+      compare(fine, tb, coarse, ta, nullptr, &culled_b);
+      if (::testing::Test::HasFatalFailure()) return;
+      // Moved to within a hair of touching, either side.
+      if (i % 4 != 0) continue;
+      DistanceResult d;
+      distance(coarse, ta, fine, tb, DistanceRequest{}, d);
+      if (!(d.distance > 0.0)) continue;
+      const Vec3 u = (d.point_a - d.point_b) / d.distance;  // moves the fine part towards the coarse one
+      for (double f : {1.0 - 1e-9, 1.0 - 1e-12, 1.0 + 1e-12, 1.0 + 1e-9}) {
+        SCOPED_TRACE("grazing " + std::to_string(f));
+        Affine moved = tb;
+        moved.translation() += f * d.distance * u;
+        compare(coarse, ta, fine, moved, nullptr, nullptr);
+        compare(fine, moved, coarse, ta, nullptr, nullptr);
+        if (::testing::Test::HasFatalFailure()) return;
+        ++grazing;
+      }
+    }
+  }
+  // Both outcomes, and the cull at work, for the comparison to mean something.
+  EXPECT_GT(colliding, poses / 10);
+  EXPECT_LT(colliding, poses);
+  EXPECT_GT(culled_a, poses / 10);
+  EXPECT_GT(culled_b, poses / 10);
+  EXPECT_GT(culled_distance, poses / 10);
+  EXPECT_GT(grazing, 0);
+}
+
 // An exact search with nothing to start from runs best-first until its
 // first bound, one with a bound depth-first (kernels/pair_traversal.h);
 // both settle a leaf's nearest float-bounded pair first until they find
