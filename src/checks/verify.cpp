@@ -547,8 +547,9 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // square exceeds far2 is at least `start` (far2 is start squared raised
   // by 1e-12, far above the few ulps its rounding costs, so the exact root
   // is above start by 4e-13 of it and rounds to no less); the others get
-  // their root and the exact comparison. (Cold states of the default scene,
-  // 138 pairs: most are beyond the cutoff.)
+  // their root and the exact comparison. (Cold states of the default scene
+  // have 138 pairs, most of them beyond the cutoff; this and the other cuts
+  // of this loop took 2,000 verdict-only states from 0.0325 to 0.0312 s.)
   const bool lazy = verdict_only && !seed;
   // (Below 1e-100 the square may be subnormal, rounded too coarsely.)
   const double far2 = start >= 1e-100 ? start * start * (1.0 + 1e-12) : std::numeric_limits<double>::infinity();
