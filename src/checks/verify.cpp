@@ -198,6 +198,20 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
     const Box w = posed_box(b, Affine::Identity());
     static_boxes_.emplace_back(w.lo, w.hi);
   }
+  // The parts of the verdict-only guard (check_pairs) that never move, with
+  // the terrain, folded into one magnitude here, and every part's own-frame
+  // magnitude: a state computes only its moving parts' world boxes' (a
+  // maximum of finite values, so the same in any order).
+  auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
+  for (const auto& [lo, hi] : local_boxes_) local_magnitude_.push_back(mag(lo, hi));
+  static_magnitude_ = terrain_magnitude_;
+  for (int i : guard_parts_) {
+    const std::size_t p = static_cast<std::size_t>(i);
+    if (chain_of_[p] >= 0)
+      moving_guard_parts_.push_back(i);
+    else
+      static_magnitude_ = std::max(static_magnitude_, std::max(mag(static_boxes_[p].first, static_boxes_[p].second), local_magnitude_[p]));
+  }
   if (scene.scoop && scene.terrain) digger_ = std::make_unique<const Digger>(scene);
 }
 
@@ -404,7 +418,14 @@ void Checker::check_terrain(const std::vector<double>& params, const Heightfield
 
 void Checker::check_pairs(const std::vector<double>& params, StateResult& out, const CheckRequest& request,
                           StateSeed* seed, const Heightfield* terrain, PairSet which, double bound) const {
-  out = StateResult{};
+  // A fresh result, keeping the contacts' storage: a colliding state would
+  // otherwise free and allocate it again for the next.
+  {
+    std::vector<PairContact> contacts = std::move(out.contacts);
+    contacts.clear();
+    out = StateResult{};
+    out.contacts = std::move(contacts);
+  }
   out.min_distance = bound;
   // Per-thread scratch: a state allocates nothing once its thread has
   // checked one state (collision-only checks take ~2 us, where a handful of
@@ -446,15 +467,58 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     terrain_box = posed_box({Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}, kIdentity);
   }
 
+  // Largest coordinate of a part's boxes, world and own frame (the terrain:
+  // its pyramid's root box): what the double distance's rounding scales with.
+  auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
+  auto pair_magnitude = [&](int i) {
+    if (i == terrain_index_) return mag(terrain_box.lo, terrain_box.hi);
+    const std::size_t p = static_cast<std::size_t>(i);
+    return std::max(mag(box[p].lo, box[p].hi), local_magnitude_[p]);
+  };
+  // The guard that settles a margin comparison of pair (a, b) in double.
+  auto pair_guard = [&](int a, int b) {
+    return std::max(kDistanceTolerance,
+                    64.0 * std::numeric_limits<double>::epsilon() * std::max(pair_magnitude(a), pair_magnitude(b)));
+  };
+  // Verdict-only: distances are searched only below the cutoff. It lies
+  // above exact_below by four times the largest guard G of any checked pair
+  // (the terrain's magnitude from the undisturbed terrain, so a state's
+  // terrain and other pairs share one cutoff) and the tie tolerance, so a
+  // pair the search proves beyond it has a lower bound at least
+  // exact_below + 3G (less rounding), above exact_below plus any pair's
+  // guard: no margin comparison on it can come out as a violation, and one
+  // that can is settled by an exact distance as in the full check.
+  const bool verdict_only = request.distance && std::isfinite(request.exact_below);
+  double cutoff = std::numeric_limits<double>::infinity();
+  if (verdict_only) {
+    // The largest pair guard: that of the largest magnitude of any part in a
+    // checked pair (parts once each, not pairs). The static parts' and the
+    // terrain's are fixed at build (static_magnitude_); a NaN magnitude
+    // (NaN parameters) never raises it, in any order, as std::max keeps its
+    // first argument then.
+    double m = static_magnitude_;
+    for (int i : moving_guard_parts_) m = std::max(m, pair_magnitude(i));
+    const double g = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() * m);
+    cutoff = request.exact_below + 4.0 * g + kDistanceTieTolerance;
+  }
+  // Where the distance search starts: only pairs whose lower bound is under
+  // it can matter.
+  const double start = std::min(bound, cutoff);
+
   // Separations the seed's state proved, less how far each pair's parts
   // can have moved since: still lower bounds on the pairs' distances here.
   // Pairs on a dug terrain copy are not carried (the ground itself moves).
   auto cacheable = [&](std::size_t k) { return pairs_[k].b != terrain_index_ || terrain == terrain_.get(); };
+  static const std::vector<std::uint32_t> kNoKept;  // the terrain's triangles are its own
   std::vector<double>& carried = scratch.separation;
-  carried.assign(pairs_.size(), 0.0);
   // A collision-only check proves nothing beyond box gaps, which are cheaper
   // to recompute than the motion bound: it neither reads nor leaves any.
-  if (request.distance && seed && seed->separation.size() == pairs_.size() && seed->at.size() == params.size()) {
+  // Without a seed nothing is carried (0 for every pair, which leaves every
+  // box gap as it is: std::max(x, 0.0) is x for any gap, NaN included).
+  const bool carry =
+      request.distance && seed && seed->separation.size() == pairs_.size() && seed->at.size() == params.size();
+  if (carry) {
+    carried.assign(pairs_.size(), 0.0);
     std::vector<double>& motion = scratch.motion;
     motion.assign(names_.size(), 0.0);
     for (std::size_t i = 0; i < n; ++i)
@@ -468,14 +532,34 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   }
 
   // Collision: every checked pair whose part boxes meet and whose carried
-  // separation does not already prove them apart.
+  // separation does not already prove them apart. Each pair apart joins the
+  // distance search's order (all of them in the full check; verdict-only,
+  // those under `start`, often a handful) or, beyond it, the bound of the
+  // skipped.
   std::vector<double>& lower = scratch.lower;
   lower.assign(pairs_.size(), 0.0);
-  // The box gap as a lower bound: a distance when distances are asked for,
-  // else only its sign matters (no square root).
-  auto gap = [&](const Box& x, const Box& y) {
-    const double g2 = box_gap2(x, y);
-    return request.distance && g2 > 0.0 ? std::sqrt(g2) : g2;
+  std::vector<std::size_t>& order = scratch.order;
+  order.clear();
+  // Verdict-only without a seed, a pair beyond `start` needs no square
+  // root of its box gap: nothing reads its lower bound but the skipped
+  // pairs' minimum, and the least square root is the root of the least
+  // square (a correctly rounded root is monotone), taken once. A gap whose
+  // square exceeds far2 is at least `start` (far2 is start squared raised
+  // by 1e-12, far above the few ulps its rounding costs, so the exact root
+  // is above start by 4e-13 of it and rounds to no less); the others get
+  // their root and the exact comparison. (Cold states of the default scene
+  // have 138 pairs, most of them beyond the cutoff; this and the other cuts
+  // of this loop took 2,000 verdict-only states from 0.0325 to 0.0312 s.)
+  const bool lazy = verdict_only && !seed;
+  // (Below 1e-100 the square may be subnormal, rounded too coarsely.)
+  const double far2 = start >= 1e-100 ? start * start * (1.0 + 1e-12) : std::numeric_limits<double>::infinity();
+  double skipped = std::numeric_limits<double>::infinity();  // lazy: its square
+  // A pair apart (box gap squared g2, lower bound l) in the distance search.
+  auto place = [&](std::size_t k, double l, double g2) {
+    if (!verdict_only || l < start)
+      order.push_back(k);
+    else
+      skipped = std::min(skipped, lazy ? g2 : l);
   };
   const bool terrain_live = terrain && terrain->triangle_count() > 0;
   // The first contact's answer as distance() gives it (a common point),
@@ -493,35 +577,39 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     // (an empty, inverted box), take no part.
     if (empty || (on_terrain ? (which == kNonTerrainPairs || !terrain_live) : which == kTerrainPairs)) {
       lower[k] = std::numeric_limits<double>::infinity();
+      if (request.distance && !verdict_only) order.push_back(k);
       continue;
     }
-    if (on_terrain) {
-      lower[k] = std::max(gap(box[a], terrain_box), carried[k]);
-      if (lower[k] > 0.0) continue;
+    const double g2 = box_gap2(box[a], on_terrain ? terrain_box : box[b]);
+    if (lazy && g2 > far2) {
+      skipped = std::min(skipped, g2);
+      continue;
+    }
+    // The box gap as a lower bound: a distance when distances are asked
+    // for, else only its sign matters (no square root).
+    const double gap = request.distance && g2 > 0.0 ? std::sqrt(g2) : g2;
+    const double l = carry ? std::max(gap, carried[k]) : gap;
+    lower[k] = l;
+    if (!(l > 0.0)) {
       CollideResult r;
-      collide(models_[a], *pose[a], *terrain, collide_request(), r);
-      if (!r.collide) continue;
-      const auto& ka = kept_[static_cast<std::size_t>(a)];
-      for (auto& ij : r.triangle_pairs)
-        if (!ka.empty()) ij.first = ka[ij.first];
-      out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
-      if (!request.all_contacts) break;
-      continue;
+      if (on_terrain)
+        collide(models_[a], *pose[a], *terrain, collide_request(), r);
+      else
+        collide(models_[a], *pose[a], models_[b], *pose[b], collide_request(), r);
+      if (r.collide) {
+        // Back to mesh triangle indices where triangles were left out.
+        const auto& ka = kept_[static_cast<std::size_t>(a)];
+        const auto& kb = on_terrain ? kNoKept : kept_[static_cast<std::size_t>(b)];
+        for (auto& [i, j] : r.triangle_pairs) {
+          if (!ka.empty()) i = ka[i];
+          if (!kb.empty()) j = kb[j];
+        }
+        out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
+        if (!request.all_contacts) break;
+        continue;
+      }
     }
-    lower[k] = std::max(gap(box[a], box[b]), carried[k]);
-    if (lower[k] > 0.0) continue;
-    CollideResult r;
-    collide(models_[a], *pose[a], models_[b], *pose[b], collide_request(), r);
-    if (!r.collide) continue;
-    // Back to mesh triangle indices where triangles were left out.
-    const auto& ka = kept_[static_cast<std::size_t>(a)];
-    const auto& kb = kept_[static_cast<std::size_t>(b)];
-    for (auto& [i, j] : r.triangle_pairs) {
-      if (!ka.empty()) i = ka[i];
-      if (!kb.empty()) j = kb[j];
-    }
-    out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
-    if (!request.all_contacts) break;
+    if (request.distance) place(k, l, g2);
   }
   out.collision = !out.contacts.empty();
   out.limit_action = first_limit_violation(scene_, params);
@@ -529,38 +617,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     if (seed) seed->separation.clear();
     return;
   }
-  // Largest coordinate of a part's boxes, world and own frame (the terrain:
-  // its pyramid's root box): what the double distance's rounding scales with.
-  auto pair_magnitude = [&](int i) {
-    auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
-    if (i == terrain_index_) return mag(terrain_box.lo, terrain_box.hi);
-    const auto& l = local_boxes_[static_cast<std::size_t>(i)];
-    return std::max(mag(box[static_cast<std::size_t>(i)].lo, box[static_cast<std::size_t>(i)].hi), mag(l.first, l.second));
-  };
-  // The guard that settles a margin comparison of pair (a, b) in double.
-  auto pair_guard = [&](int a, int b) {
-    return std::max(kDistanceTolerance,
-                    64.0 * std::numeric_limits<double>::epsilon() * std::max(pair_magnitude(a), pair_magnitude(b)));
-  };
-  // Verdict-only: distances are searched only below the cutoff. It lies
-  // above exact_below by four times the largest guard G of any checked pair
-  // (the terrain's magnitude from the undisturbed terrain, so a state's
-  // terrain and other pairs share one cutoff) and the tie tolerance, so a
-  // pair the search proves beyond it has a lower bound at least
-  // exact_below + 3G (less rounding), above exact_below plus any pair's
-  // guard: no margin comparison on it can come out as a violation, and one
-  // that can is settled by an exact distance as in the full check.
-  const bool verdict_only = std::isfinite(request.exact_below);
-  double cutoff = std::numeric_limits<double>::infinity();
-  if (verdict_only) {
-    // The largest pair guard: that of the largest magnitude of any part in a
-    // checked pair (parts once each, not pairs), the terrain's fixed at build.
-    double m = terrain_magnitude_;
-    for (int i : guard_parts_) m = std::max(m, pair_magnitude(i));
-    const double g = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() * m);
-    cutoff = request.exact_below + 4.0 * g + kDistanceTieTolerance;
-    out.min_distance = std::min(out.min_distance, cutoff);
-  }
+  out.min_distance = start;
   // Lower bound of the pairs proven beyond the cutoff without an exact
   // distance (verdict-only; pairs searched below an exact distance found
   // before are settled by it, as in the full check).
@@ -570,8 +627,11 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // below where a distance search settles it. Pairs outside `which` (an
   // infinite bound) prove nothing.
   std::vector<double>& proven = carried;  // carried[k] is folded into lower[k] by now
-  for (std::size_t k = 0; k < pairs_.size(); ++k)
-    proven[k] = std::isfinite(lower[k]) && cacheable(k) ? lower[k] : 0.0;
+  if (seed) {
+    proven.resize(pairs_.size());
+    for (std::size_t k = 0; k < pairs_.size(); ++k)
+      proven[k] = std::isfinite(lower[k]) && cacheable(k) ? lower[k] : 0.0;
+  }
   auto store_separations = [&] {
     if (!seed) return;
     seed->separation.assign(proven.begin(), proven.end());
@@ -580,25 +640,14 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
 
   // Minimum distance: pairs in order of their box lower bound, the best so
   // far pruning the rest; a colliding state needs only a common point.
-  std::vector<std::size_t>& order = scratch.order;
-  order.clear();
   if (out.collision) {
+    order.clear();
     for (std::size_t k = 0; k < pairs_.size(); ++k)
       if (pairs_[k].a == out.contacts[0].part_a && pairs_[k].b == out.contacts[0].part_b) order.push_back(k);
   } else {
-    // Only pairs whose lower bound is under the starting bound can matter
-    // (verdict-only: under the cutoff, often a handful of the pairs); the
-    // rest are proven beyond it by their box gaps or carried separations.
     // (The full check sorts them all, as it always has: the order among
     // equal bounds decides which of equally close pairs is reported.)
-    double skipped = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < pairs_.size(); ++k) {
-      if (!verdict_only || lower[k] < out.min_distance)
-        order.push_back(k);
-      else
-        skipped = std::min(skipped, lower[k]);
-    }
-    if (verdict_only && out.min_distance >= cutoff) beyond = std::min(beyond, skipped);
+    if (verdict_only && out.min_distance >= cutoff) beyond = std::min(beyond, lazy ? std::sqrt(skipped) : skipped);
     std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return lower[x] < lower[y]; });
   }
   StateSeed hint;
@@ -712,7 +761,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     // distance is taken off with the guard a margin test uses.
     const double settled = (r.found ? r.distance : q.upper_bound) * shrink - q.abs_tolerance;
     const double guard = pair_guard(a, b);
-    if (!out.collision && std::isfinite(settled)) proven[k] = std::max(proven[k], settled - guard);
+    if (seed && !out.collision && std::isfinite(settled)) proven[k] = std::max(proven[k], settled - guard);
     if (verdict_only && !r.found && q.upper_bound >= cutoff) beyond = std::min(beyond, std::max(lower[k], settled - guard));
     if (r.found && r.distance < out.min_distance) {
       if (seed) {

@@ -338,6 +338,12 @@ class Checker {
   // (0 without terrain pairs): what the verdict-only cutoff scales with.
   std::vector<int> guard_parts_;
   double terrain_magnitude_ = 0.0;
+  // The same split for a state's guard: the moving parts of guard_parts_;
+  // the largest magnitude of its static parts' boxes (world and own frame)
+  // and terrain_magnitude_; and every part's own-frame box magnitude.
+  std::vector<int> moving_guard_parts_;
+  double static_magnitude_ = 0.0;
+  std::vector<double> local_magnitude_;
   bool has_terrain_pairs_ = false;
   std::vector<int> chain_of_;           // chain id per checked part, -1 when static
   std::vector<std::pair<Vec3, Vec3>> local_boxes_;  // (lo, hi) per part, its own frame

@@ -7,6 +7,7 @@
 // where the file drew it.
 #include "src/scene/kinematics.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace plancheck {
@@ -66,7 +67,30 @@ Affine compose(const Scene& scene, const std::vector<int>& chain, std::span<cons
 
 void chain_transforms(const Scene& scene, std::span<const double> params, std::vector<Affine>& out) {
   out.resize(scene.chains.size());
-  for (std::size_t c = 0; c < scene.chains.size(); ++c) out[c] = compose(scene, scene.chains[c], params);
+  for (std::size_t c = 0; c < scene.chains.size(); ++c) {
+    // An arm's chains are prefixes of each other ([J1], [J1, J2], ...): a
+    // chain continues the product of the longest earlier chain that begins
+    // it. compose's product after those actions is that very value (the
+    // same products in the same order), so the result is the same bit for
+    // bit, and each action's transform (a sine and cosine) is computed
+    // once, not once per chain below it. (Cold verdict-only states of the
+    // default scene, 5 chains: compose, action_transform and sincos were
+    // 2.3% of the time.)
+    const std::vector<int>& chain = scene.chains[c];
+    std::size_t from = 0;
+    Affine t = Affine::Identity();
+    for (std::size_t p = 0; p < c; ++p) {
+      const std::vector<int>& prefix = scene.chains[p];
+      if (prefix.size() > from && prefix.size() <= chain.size() &&
+          std::equal(prefix.begin(), prefix.end(), chain.begin())) {
+        from = prefix.size();
+        t = out[p];
+      }
+    }
+    for (std::size_t i = from; i < chain.size(); ++i)
+      t = t * action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[i])], params);
+    out[c] = t;
+  }
 }
 
 Affine part_transform(const Scene& scene, int part, std::span<const double> params) {

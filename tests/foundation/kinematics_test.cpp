@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <random>
 #include <limits>
 #include <string>
 
@@ -85,6 +87,56 @@ TEST(Kinematics, CompositionOrderIsRootFirst) {
   for (const Part& part : s.parts)
     EXPECT_TRUE(chains[part.chain_id].isApprox(part_transform(s, static_cast<int>(&part - s.parts.data()), p)))
         << part.name;
+}
+
+// chain_transforms continues the product of an earlier chain that begins
+// a chain; every chain must still be exactly (bit for bit) the product of
+// its own actions from the identity, root first, whatever the order of the
+// chains: prefixes before and after their extensions, branches, repeats, the
+// empty chain, and chains that share actions but not as a prefix.
+TEST(Kinematics, ChainTransformsEqualEachChainComposedAlone) {
+  std::mt19937 rng(16);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    Scene s;
+    const int action_count = 6;
+    int parameters = 0;
+    for (int i = 0; i < action_count; ++i) {
+      Action a;
+      a.type = static_cast<ActionType>(rng() % 4);
+      a.pivot = Vec3(u(rng), u(rng), u(rng)) * 3.0;
+      a.axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+      a.fixed_point = Vec3(u(rng), u(rng), u(rng));
+      a.first_parameter = parameters;
+      a.parameter_count = a.type == ActionType::kTranslateFree || a.type == ActionType::kScale ? 3 : 1;
+      if (a.type == ActionType::kRotate && rng() % 2 == 0) {
+        a.unit_to_si = kPi / 180.0;
+        a.whole_turn = 360.0;
+      }
+      parameters += a.parameter_count;
+      s.actions.push_back(a);
+    }
+    // Chains: random prefixes of a few random root-first sequences, in random order.
+    std::vector<std::vector<int>> roots(3);
+    for (auto& r : roots)
+      for (int i = 0; i < 5; ++i) r.push_back(static_cast<int>(rng() % action_count));
+    const int chain_count = 1 + static_cast<int>(rng() % 8);
+    for (int c = 0; c < chain_count; ++c) {
+      const auto& r = roots[rng() % roots.size()];
+      s.chains.emplace_back(r.begin(), r.begin() + static_cast<long>(rng() % (r.size() + 1)));
+    }
+    std::vector<double> p(static_cast<std::size_t>(parameters));
+    for (double& v : p) v = u(rng) * (trial % 2 == 0 ? 4.0 : 400.0);
+    std::vector<Affine> chains;
+    chain_transforms(s, p, chains);
+    ASSERT_EQ(chains.size(), s.chains.size());
+    for (std::size_t c = 0; c < s.chains.size(); ++c) {
+      Affine t = Affine::Identity();
+      for (int a : s.chains[c]) t = t * action_transform_at(s, s.actions[static_cast<std::size_t>(a)], p);
+      EXPECT_EQ(std::memcmp(t.matrix().data(), chains[c].matrix().data(), sizeof(double) * 16), 0)
+          << "trial " << trial << " chain " << c;
+    }
+  }
 }
 
 TEST(Kinematics, RightHandedRotation) {

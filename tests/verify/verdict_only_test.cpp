@@ -19,9 +19,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -147,6 +152,135 @@ TEST(VerdictOnly, BarNearTheMarginAtTheOriginAndAtTheLunarRadius) {
   EXPECT_GT(tally.collision, 0);
   EXPECT_GT(tally.clearance, 0);
   EXPECT_GT(tally.bound, 0);
+}
+
+// The same answer, bit for bit (NaN and the sign of zero included).
+void expect_identical(const StateResult& x, const StateResult& y, const std::string& at) {
+  auto bits = [](double v) { return std::bit_cast<std::uint64_t>(v); };
+  ASSERT_EQ(x.collision, y.collision) << at;
+  ASSERT_EQ(x.contacts.size(), y.contacts.size()) << at;
+  for (std::size_t i = 0; i < x.contacts.size(); ++i) {
+    EXPECT_EQ(x.contacts[i].part_a, y.contacts[i].part_a) << at;
+    EXPECT_EQ(x.contacts[i].part_b, y.contacts[i].part_b) << at;
+    EXPECT_EQ(x.contacts[i].triangles, y.contacts[i].triangles) << at;
+  }
+  EXPECT_EQ(bits(x.min_distance), bits(y.min_distance)) << at << ": " << x.min_distance << " vs " << y.min_distance;
+  EXPECT_EQ(x.distance_is_bound, y.distance_is_bound) << at;
+  EXPECT_EQ(x.part_a, y.part_a) << at;
+  EXPECT_EQ(x.part_b, y.part_b) << at;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(bits(x.point_a[k]), bits(y.point_a[k])) << at;
+    EXPECT_EQ(bits(x.point_b[k]), bits(y.point_b[k])) << at;
+  }
+  EXPECT_EQ(x.limit_action, y.limit_action) << at;
+  EXPECT_EQ(bits(x.distance_tolerance), bits(y.distance_tolerance)) << at;
+}
+
+// Margins that put the verdict-only cutoff (margin + 4 G + the tie
+// tolerance, G the state's largest guard) within a few ulps of each checked
+// pair's box gap at this state, either side: the gaps as check_pairs
+// computes them, from the posed part boxes, less 4 G for every G the guard
+// can take here (kDistanceTolerance on a scene of metres, 64 eps times the
+// largest coordinate far from the origin).
+std::vector<double> margins_at_box_gaps(const Checker& c, const std::vector<double>& state) {
+  PosedParts posed;
+  c.pose_parts(state, posed);
+  double magnitude = 0.0;
+  for (const auto& [lo, hi] : posed.box)
+    if (lo.allFinite() && hi.allFinite()) magnitude = std::max({magnitude, lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()});
+  std::vector<double> guards = {kDistanceTolerance};
+  const double g = 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
+  if (g > kDistanceTolerance)
+    for (double f : {1.0, 1.0 + 1e-6, 1.0 + 1e-3}) guards.push_back(g * f);
+  // The nearest pairs' gaps (the cutoff lies near them at margins that matter).
+  std::vector<double> gaps;
+  for (const auto& [a, b] : c.pairs()) {
+    if (static_cast<std::size_t>(b) >= posed.box.size()) continue;  // the terrain: its box is not posed here
+    const auto& x = posed.box[static_cast<std::size_t>(a)];
+    const auto& y = posed.box[static_cast<std::size_t>(b)];
+    double g2 = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double g = std::max(std::max(x.first[i] - y.second[i], y.first[i] - x.second[i]), 0.0);
+      g2 += g * g;
+    }
+    if (g2 > 0.0 && std::isfinite(g2)) gaps.push_back(std::sqrt(g2));
+  }
+  std::sort(gaps.begin(), gaps.end());
+  gaps.resize(std::min<std::size_t>(gaps.size(), 8));
+  std::vector<double> out;
+  for (double gap : gaps)
+    for (double guard : guards) {
+      double m = gap - 4.0 * guard - kDistanceTieTolerance;
+      for (int step = 0; step < 2; ++step) m = std::nextafter(m, 0.0);
+      for (int step = 0; step < 5; ++step, m = std::nextafter(m, 1e300))
+        if (m >= 0.0) out.push_back(m);
+    }
+  return out;
+}
+
+// A check without a seed skips the square root of box gaps beyond the
+// cutoff (check_pairs' `lazy`); with one it takes every root. An empty seed
+// changes nothing else, so both must answer the same bit for bit: on cold
+// states of the default scene (its terrain too, whole and as the dug
+// path's separate pass) and on the bar near the origin and at the lunar
+// radius, at the scene's margin, around each state's distance, and at
+// margins that put the cutoff within ulps of a box gap.
+TEST(VerdictOnly, UnseededStatesAnswerAsSeededOnesBitForBit) {
+  struct Case {
+    const Checker* checker;
+    std::vector<double> state;
+    double margin;
+    std::string what;
+  };
+  const Scene scene = load_scene(kDataset / "scene.json");
+  const Checker checker(scene);
+  stability::BarScene bar;
+  const Checker near(bar.scene);
+  const Scene far_scene = stability::translated(bar.scene, stability::kLunarRadius * Vec3(0.48, -0.6, 0.64));
+  const Checker far(far_scene);
+  std::vector<Case> cases;
+  std::mt19937_64 rng(16);
+  const int n = testing::case_count(60, 10);
+  for (int i = 0; i < n; ++i)
+    cases.push_back({&checker, testing::random_state(scene, rng, i % 5 == 0 ? 0.2 : 0.0), scene.safety_margin,
+                     "cold state " + std::to_string(i)});
+  const std::vector<std::string> degrees = {"0", "-0.001", "-1", "-1.4324", "-2", "-5", "-30", "10"};
+  const auto bar_states = bar.states(degrees);
+  for (std::size_t i = 0; i < bar_states.size(); ++i) {
+    cases.push_back({&near, bar_states[i], 0.05, "bar at the origin, J1 " + degrees[i]});
+    cases.push_back({&far, bar_states[i], 0.05, "bar at the lunar radius, J1 " + degrees[i]});
+  }
+  int compared = 0, bounds = 0;
+  for (const Case& c : cases) {
+    StateResult full;
+    c.checker->check_state(c.state, full);
+    std::vector<double> margins = margins_around(full.min_distance);
+    margins.push_back(c.margin);
+    for (double m : margins_at_box_gaps(*c.checker, c.state)) margins.push_back(m);
+    for (double m : margins) {
+      const CheckRequest request = verdict_only_request(m);
+      const std::string at = c.what + " margin " + std::to_string(m);
+      StateResult lazy, rooted;
+      StateSeed empty;
+      c.checker->check_state(c.state, lazy, request);
+      c.checker->check_state(c.state, rooted, request, &empty);
+      expect_identical(lazy, rooted, at);
+      ++compared;
+      bounds += lazy.distance_is_bound ? 1 : 0;
+      // The terrain in its own pass (the dug path), after the other pairs.
+      if (c.checker->terrain()) {
+        StateSeed empty_a, empty_b;
+        c.checker->check_state_without_terrain(c.state, lazy, request);
+        c.checker->check_terrain(c.state, *c.checker->terrain(), lazy, nullptr, request);
+        c.checker->check_state_without_terrain(c.state, rooted, request, &empty_a);
+        c.checker->check_terrain(c.state, *c.checker->terrain(), rooted, &empty_b, request);
+        expect_identical(lazy, rooted, at + " (terrain apart)");
+      }
+      if (HasFailure()) return;
+    }
+  }
+  EXPECT_GT(bounds, 0);
+  std::cout << "compared " << compared << " answers, " << bounds << " of them bounds\n";
 }
 
 // Along the default plans, dug terrain included: per state the same verdict,
