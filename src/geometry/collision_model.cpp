@@ -408,11 +408,13 @@ struct LeafPlanes {
   double n[kMaxLeafSize][5];                  // normal (not unit; 0 if degenerate), its |.|_1, its |.|_2
   double lo[kMaxLeafSize], hi[kMaxLeafSize];  // span of the triangle's vertices on n
   double big = 0.0;                           // largest |coordinate| of the vertices
+  bool finite = true;                         // every vertex coordinate and normal finite
 
   void fill(const Side& side, std::uint32_t node_index, const BvhNode& leaf) {
     node = node_index;
     count = leaf.count;
     big = 0.0;
+    double sum = 0.0;  // finite only when every term is (an overflow to inf is refused as well)
     for (std::uint32_t i = 0; i < count; ++i) {
       double* t = tri[i];
       side.triangle(leaf.index + i, t);
@@ -432,7 +434,10 @@ struct LeafPlanes {
         hi[i] = std::max(hi[i], d);
         for (int k = 0; k < 3; ++k) big = std::max(big, std::abs(t[3 * v + k]));
       }
+      sum += c[3] + c[4] + lo[i] - hi[i] + std::abs(t[0]) + std::abs(t[1]) + std::abs(t[2]) + std::abs(t[3]) +
+             std::abs(t[4]) + std::abs(t[5]) + std::abs(t[6]) + std::abs(t[7]) + std::abs(t[8]);
     }
+    finite = std::isfinite(sum);
   }
 };
 
@@ -447,13 +452,18 @@ struct LeafPlanes {
 // box axes' by 1 + 1e-12 for their deviation from unit length); the
 // projections of vertices, centre and box err by a few ulps of
 // |c|_1 + |h|_1 + 3 big, far below the 1e-12 of that (times |n|_1 on the
-// unnormalised normal) allowed here. A NaN anywhere fails every comparison:
-// nothing is dropped.
+// unnormalised normal) allowed here. Nothing is dropped unless every input
+// is finite: a NaN fails the comparisons, but the spans' min and max would
+// pass over a NaN projection (std::min keeps its first argument), and a
+// triangle with NaN in all three would get an empty span, clear of anything.
 bool box_clear_of_leaf(const LeafPlanes& leaf, const double* c, const double* ax, const double* h,
                        double tol, double reach = 0.0) {
   const double far = reach * (1.0 + 1e-12);
   const double slack =
       tol + 1e-12 * (std::abs(c[0]) + std::abs(c[1]) + std::abs(c[2]) + h[0] + h[1] + h[2] + 3.0 * leaf.big);
+  double axes = 0.0;
+  for (int k = 0; k < 9; ++k) axes += std::abs(ax[k]);
+  if (!leaf.finite || !std::isfinite(slack + far + axes)) return false;
   for (std::uint32_t i = 0; i < leaf.count; ++i) {
     const double* n = leaf.n[i];
     const double nc = n[0] * c[0] + n[1] * c[1] + n[2] * c[2];

@@ -412,6 +412,64 @@ TEST(CollisionModel, LeafCullChangesNoListingOrContact) {
   EXPECT_GT(grazing, 0);
 }
 
+// The leaf cull proves nothing from a NaN or an infinity: poses with one
+// non-finite or huge entry (rotation or translation, either part) answer as
+// the descent without the cull does. Such poses do not reach the cull today
+// (a NaN rotation is no isometry, so no oriented boxes; a 1e308 translation
+// makes obb_tol infinite), and box_clear_of_leaf refuses non-finite input
+// itself besides. Upstream, a state's parameters must be finite, but a
+// finite parameter far outside its limits can still overflow a transform,
+// and the verdict is a safety claim either way.
+TEST(CollisionModel, LeafCullDropsNothingOnNonFinitePoses) {
+  const Mesh deck = make_box(Vec3::Zero(), Vec3(1.0, 0.8, 0.15));
+  const CollisionModel coarse(deck), fine(testing::make_sphere(Vec3::Zero(), 0.3, 8, 12));
+  const double bad[] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                        -std::numeric_limits<double>::infinity(), 1e308};
+  std::mt19937_64 rng(17);
+  const auto same_value = [](double x, double y) { return x == y || (std::isnan(x) && std::isnan(y)); };
+  int slow_collides = 0, compared = 0;
+  for (int it = 0; it < 96; ++it) {
+    Affine ta = random_rigid(rng, Vec3::Zero(), 0.0);
+    Affine tb = random_rigid(rng, Vec3::Zero(), 0.5);
+    Affine& spoiled = it % 2 == 0 ? tb : ta;
+    const int entry = (it / 2) % 12;  // 9 of the rotation, 3 of the translation
+    const double v = bad[(it / 24) % 4];
+    if (entry < 9)
+      spoiled.linear()(entry / 3, entry % 3) = v;
+    else
+      spoiled.translation()[entry - 9] = v;
+    SCOPED_TRACE("pose " + std::to_string(it) + " entry " + std::to_string(entry) + " value " + std::to_string(v));
+    for (int order = 0; order < 2; ++order) {
+      const CollisionModel& a = order == 0 ? coarse : fine;
+      const CollisionModel& b = order == 0 ? fine : coarse;
+      const Affine& pa = order == 0 ? ta : tb;
+      const Affine& pb = order == 0 ? tb : ta;
+      CollideRequest fast{std::size_t{1} << 30}, slow{std::size_t{1} << 30};
+      slow.leaf_cull = false;
+      CollideResult rf, rs;
+      collide(a, pa, b, pb, fast, rf);
+      collide(a, pa, b, pb, slow, rs);
+      ASSERT_EQ(rf.collide, rs.collide);
+      ASSERT_EQ(rf.triangle_pairs, rs.triangle_pairs);
+      slow_collides += rs.collide;
+      DistanceRequest qf;
+      qf.upper_bound = 0.25;
+      DistanceRequest qs = qf;
+      qs.leaf_cull = false;
+      DistanceResult df, ds;
+      distance(a, pa, b, pb, qf, df);
+      distance(a, pa, b, pb, qs, ds);
+      ASSERT_EQ(df.found, ds.found);
+      ASSERT_TRUE(same_value(df.distance, ds.distance)) << df.distance << " against " << ds.distance;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 192);
+  // The descent without the cull reports contacts on some of these poses:
+  // the comparison would see a cull that dropped them.
+  EXPECT_GT(slow_collides, 0);
+}
+
 // An exact search with nothing to start from runs best-first until its
 // first bound, one with a bound depth-first (kernels/pair_traversal.h);
 // both settle a leaf's nearest float-bounded pair first until they find
