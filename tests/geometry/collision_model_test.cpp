@@ -250,6 +250,27 @@ TEST(CollisionModel, NearTouchingRigidPosesMatchBruteForce) {
   EXPECT_GT(stats.separate, 0);
 }
 
+// collide() as asked and with one cull switched off (`cull`, a flag of
+// CollideRequest), at `limit`: the same flag, the same listing in the same
+// order, the same contact bit for bit, never more node pairs. Gives both
+// results; the caller checks HasFatalFailure.
+void collide_with_and_without(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+                              std::size_t limit, bool CollideRequest::*cull, CollideResult& rf, CollideResult& rs) {
+  DistanceResult contact_fast, contact_slow;
+  CollideRequest fast{limit}, slow{limit};
+  fast.contact = &contact_fast;
+  slow.contact = &contact_slow;
+  slow.*cull = false;
+  collide(a, ta, b, tb, fast, rf);
+  collide(a, ta, b, tb, slow, rs);
+  ASSERT_EQ(rf.collide, rs.collide);
+  ASSERT_EQ(rf.triangle_pairs, rs.triangle_pairs);
+  ASSERT_LE(rf.node_pairs_visited, rs.node_pairs_visited);
+  if (rf.collide) {
+    ASSERT_TRUE(testing::same_answer(contact_fast, contact_slow));
+  }
+}
+
 // The axis-aligned cull of the rigid-rigid descent (CollideRequest::box_cull)
 // against the descent without it: the same flag, the same listing in the
 // same order at every limit, the same contact bit for bit, never more node
@@ -274,20 +295,9 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
       ++poses;
       for (std::size_t limit : {std::size_t{0}, std::size_t{1}, std::size_t{16}, std::size_t{1} << 30}) {
         SCOPED_TRACE("pose " + std::to_string(i) + " limit " + std::to_string(limit));
-        DistanceResult contact_fast, contact_slow;
-        CollideRequest fast{limit}, slow{limit};
-        fast.contact = &contact_fast;
-        slow.contact = &contact_slow;
-        slow.box_cull = false;
         CollideResult rf, rs;
-        collide(a, ta, b, tb, fast, rf);
-        collide(a, ta, b, tb, slow, rs);
-        ASSERT_EQ(rf.collide, rs.collide);
-        ASSERT_EQ(rf.triangle_pairs, rs.triangle_pairs);
-        ASSERT_LE(rf.node_pairs_visited, rs.node_pairs_visited);
-        if (rf.collide) {
-          ASSERT_TRUE(testing::same_answer(contact_fast, contact_slow));
-        }
+        collide_with_and_without(a, ta, b, tb, limit, &CollideRequest::box_cull, rf, rs);
+        if (::testing::Test::HasFatalFailure()) return;
         if (limit == 0) {
           colliding += rf.collide;
           culled += rf.node_pairs_visited < rs.node_pairs_visited;
@@ -342,20 +352,9 @@ TEST(CollisionModel, LeafCullChangesNoListingOrContact) {
                            int* collided, int* culled) {
     for (std::size_t limit : {std::size_t{0}, std::size_t{1}, std::size_t{16}, std::size_t{1} << 30}) {
       SCOPED_TRACE("limit " + std::to_string(limit));
-      DistanceResult contact_fast, contact_slow;
-      CollideRequest fast{limit}, slow{limit};
-      fast.contact = &contact_fast;
-      slow.contact = &contact_slow;
-      slow.leaf_cull = false;
       CollideResult rf, rs;
-      collide(a, ta, b, tb, fast, rf);
-      collide(a, ta, b, tb, slow, rs);
-      ASSERT_EQ(rf.collide, rs.collide);
-      ASSERT_EQ(rf.triangle_pairs, rs.triangle_pairs);
-      ASSERT_LE(rf.node_pairs_visited, rs.node_pairs_visited);
-      if (rf.collide) {
-        ASSERT_TRUE(testing::same_answer(contact_fast, contact_slow));
-      }
+      collide_with_and_without(a, ta, b, tb, limit, &CollideRequest::leaf_cull, rf, rs);
+      if (::testing::Test::HasFatalFailure()) return;
       if (limit == 0 && collided) *collided += rf.collide;
       if (limit == 0 && culled) *culled += rf.node_pairs_visited < rs.node_pairs_visited;
     }
