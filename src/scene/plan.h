@@ -16,6 +16,10 @@ namespace plancheck {
 // the scene's length_unit (1 cm in a scene in metres).
 inline constexpr double kDefaultTargetTolerance = 0.01;
 
+// A plan's name names its CSV report and its lines: at most this many bytes
+// of UTF-8 text without control characters.
+inline constexpr std::size_t kMaxPlanNameBytes = 200;
+
 struct Plan {
   std::string name;                        // "# name:" or the file stem
   std::filesystem::path file;
