@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: MIT
-"""The Python module `plancheck` gives `plancheck verify`'s per-state answers.
+"""The Python package `plancheck` gives `plancheck verify`'s per-state answers.
 
-Run by ctest (tests/python/CMakeLists.txt) with PYTHONPATH=build/python and
-PLANCHECK_BINARY_DIR set; every answer is compared with the CSV rows and the
-report.json verdicts that verify writes for the same states.
+Run by ctest (tests/python/CMakeLists.txt) with the python of a venv the
+package was pip-installed into (python.install) and PLANCHECK_BINARY_DIR
+set; every answer is compared with the CSV rows and the report.json
+verdicts that verify writes for the same states. PackageTest checks the
+installed package itself: where it is, NumPy missing, its types.
 """
 import csv
 import json
@@ -11,6 +13,7 @@ import math
 import os
 import pathlib
 import subprocess
+import sys
 import tempfile
 import threading
 import unittest
@@ -97,6 +100,46 @@ def expect_rows(test, result, rows, where, tie_points=False):
 def read_rows(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+class PackageTest(unittest.TestCase):
+    def test_imported_from_the_venv(self):
+        """The installed package, not the source tree or build/python."""
+        self.assertNotEqual(sys.prefix, sys.base_prefix, "not run in a venv")
+        where = pathlib.Path(plancheck.__file__).resolve()
+        self.assertTrue(where.is_relative_to(pathlib.Path(sys.prefix).resolve()), where)
+        for f in ("_plancheck.pyi", "py.typed"):
+            self.assertTrue((where.parent / f).is_file(), f)
+        self.assertEqual(repr(plancheck.Error), "<class 'plancheck.Error'>")
+
+    def test_without_numpy_import_fails_at_once(self):
+        """As where NumPy is not installed: import raises, saying what is missing."""
+        p = subprocess.run([sys.executable, "-c", "import sys; sys.modules['numpy'] = None; import plancheck"],
+                           capture_output=True, text=True)
+        self.assertNotEqual(p.returncode, 0)
+        self.assertIn("ImportError: plancheck needs NumPy, which %s cannot import" % sys.executable, p.stderr)
+        self.assertIn("apt-get install python3-numpy", p.stderr)
+
+    def mypy(self, *args):
+        return subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-error-summary", *args],
+                              capture_output=True, text=True, cwd=pathlib.Path(__file__).parent)
+
+    def test_types_seen_by_mypy_strict(self):
+        """typed_example.py passes mypy --strict; typed_wrong.py's misuses are each caught."""
+        p = self.mypy("typed_example.py")
+        self.assertEqual((p.returncode, p.stdout, p.stderr), (0, "", ""))
+        p = self.mypy("typed_wrong.py")
+        self.assertEqual(p.returncode, 1, p.stdout + p.stderr)
+        wrong = pathlib.Path(__file__).with_name("typed_wrong.py").read_text().splitlines()
+        expected = [i + 1 for i, line in enumerate(wrong) if line.rstrip().endswith("# wrong")]
+        flagged = sorted(set(int(line.split(":")[1]) for line in p.stdout.splitlines() if ": error:" in line))
+        self.assertEqual(flagged, expected, p.stdout)
+
+    def test_stubs_match_the_module(self):
+        """mypy.stubtest: every name and signature of _plancheck.pyi against the built module."""
+        p = subprocess.run([sys.executable, "-m", "mypy.stubtest", "plancheck", "--allowlist", "stubtest_allowlist.txt"],
+                           capture_output=True, text=True, cwd=pathlib.Path(__file__).parent)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
 
 
 class ModuleTest(unittest.TestCase):
