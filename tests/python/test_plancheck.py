@@ -113,9 +113,13 @@ class PackageTest(unittest.TestCase):
         self.assertEqual(repr(plancheck.Error), "<class 'plancheck.Error'>")
 
     def test_without_numpy_import_fails_at_once(self):
-        """As where NumPy is not installed: import raises, saying what is missing."""
-        p = subprocess.run([sys.executable, "-c", "import sys; sys.modules['numpy'] = None; import plancheck"],
-                           capture_output=True, text=True)
+        """With no site packages (python -S) NumPy is really missing while the
+        installed package is on the path: import raises, saying what is missing."""
+        site = str(pathlib.Path(plancheck.__file__).parent.parent)
+        run = lambda code: subprocess.run([sys.executable, "-S", "-c", "import sys; sys.path.insert(0, %r); %s" % (site, code)],
+                                          capture_output=True, text=True)
+        self.assertIn("No module named 'numpy'", run("import numpy").stderr)
+        p = run("import plancheck")
         self.assertNotEqual(p.returncode, 0)
         self.assertIn("ImportError: plancheck needs NumPy, which %s cannot import" % sys.executable, p.stderr)
         self.assertIn("apt-get install python3-numpy", p.stderr)
