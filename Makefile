@@ -7,7 +7,7 @@ CMAKE_FLAGS ?=
 DATASET := datasets/change5
 GEN     := $(BUILD)/generate_change5
 
-# Sanitizer and fuzz builds (README "Sanitizers and fuzzing"): each its own
+# Sanitizer and fuzz builds (docs/development.md "Sanitizers and fuzzing"): each its own
 # build folder, building only what its tests need (no benchmarks).
 ASAN_BUILD ?= build-asan
 TSAN_BUILD ?= build-tsan

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Verification results -> stdout lines, DIR/report.json, DIR/<plan>.csv
-// (contract: README "Reports"). Lengths are written in the scene's length_unit.
+// (contract: docs/formats.md "Reports"). Lengths are written in the scene's length_unit.
 #pragma once
 
 #include "src/checks/verify.h"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Plan CSV -> states (contract: README "Plan file").
+// Plan CSV -> states (contract: docs/formats.md "Plan file").
 #pragma once
 
 #include "src/scene/scene.h"
