@@ -125,7 +125,8 @@ std::string number_problem(std::string_view s) {
   double v = 0;
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec == std::errc::result_out_of_range && ptr == s.data() + s.size()) return "is beyond the range of a double";
+  if (ec == std::errc::result_out_of_range && ptr == s.data() + s.size())
+    return "is not a finite number (beyond the range of a double)";
   return "is not a finite number";
 }
 

@@ -192,7 +192,7 @@ TEST_F(PlanTest, NumbersBelowAndAboveTheRangeOfADouble) {
   EXPECT_EQ(p.states[0][1], 0.0);
   const Plan sub = load_plan(scene_, dir_.write("sub.csv", "J1\n4e-320\n"));
   EXPECT_EQ(sub.states[0][0], 4e-320);
-  expect_error("huge.csv", "J1\n1e400\n", {"huge.csv:2:1", "'1e400' is beyond the range of a double"});
+  expect_error("huge.csv", "J1\n1e400\n", {"huge.csv:2:1", "'1e400' is not a finite number (beyond the range of a double)"});
   expect_error("nan.csv", "J1\nnan\n", {"nan.csv:2:1", "is not a finite number"});
 }
 
