@@ -432,7 +432,8 @@ TEST(HostileFiles, NamesReachTheTerminalEscaped) {
 
 TEST(HostileFiles, ParseErrorsDoNotEchoTheFile) {
   TempDir dir("hostile");
-  write_text(dir / "s.json", "{\"format\": \"plancheck-scene/1\", \"model\": hunter2secret}");
+  // (an unterminated string: the parser has read all of it when it fails)
+  write_text(dir / "s.json", "{\"format\": \"plancheck-scene/1\", \"model\": \"hunter2secret\n}");
   const CliRun r = plancheck(dir, {"scene", (dir / "s.json").string()});
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(r.err.find("hunter2"), std::string::npos) << r.err;
