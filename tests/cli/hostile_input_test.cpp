@@ -313,7 +313,9 @@ TEST(HostileFiles, AHugeLineFailsAtItsLineInBoundedMemory) {
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_NE(r.err.find("long.csv:3"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("longer than"), std::string::npos) << r.err;
+#ifndef PLANCHECK_SANITIZED  // ASan's shadow and quarantine hold memory of their own: the Release run checks it
   EXPECT_LT(peak_child_kb(), 80 * 1024) << "the line was held whole";
+#endif
   // The reader itself: the same limit on any line, before it is held.
   EXPECT_THROW(
       {
