@@ -10,6 +10,8 @@
 #include <bit>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <iterator>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -243,6 +245,66 @@ TEST(Fingerprint, ValuesAreTwoLengthPrefixedFnvChains) {
   std::snprintf(expected, sizeof expected, "%016llx%016llx", static_cast<unsigned long long>(a),
                 static_cast<unsigned long long>(b));
   EXPECT_EQ(fp.hex(), expected);
+}
+
+// Records and headers that lie about sizes (issue "Hostile files"): memory
+// follows the file, never what it claims.
+
+std::vector<std::string> toy_blobs(std::size_t b, std::size_t e) {
+  std::vector<std::string> out;
+  for (std::size_t k = b; k < e; ++k) out.push_back(blob_of(k));
+  return out;
+}
+
+TEST(Distribute, AJournalRecordClaimingTerabytesIsRedoneNotAllocated) {
+  const auto dir = scratch("lying-record");
+  const std::vector<std::uint64_t> w(6, 1);
+  DistOptions o = toy_options(dir);
+  o.shard = Shard{0, 1};
+  run_items(o, w, toy_blobs, [](std::size_t, std::string_view) {});
+  const std::filesystem::path file = partial_path(dir, *o.shard);
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  // The first record's length field: after the two header lines and the tag and item.
+  const std::size_t first_record = bytes.find('\n', bytes.find('\n') + 1) + 1;
+  ASSERT_EQ(bytes[first_record], 'R');
+  const std::uint64_t lie = (std::uint64_t{1} << 40) - 1;
+  std::memcpy(bytes.data() + first_record + 9, &lie, 8);
+  std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+  // Not a complete partial any more: merge refuses it with a message, no allocation.
+  EXPECT_THROW(open_partials({dir}), InputError);
+  // --resume redoes every item from the lying record on.
+  o.resume = true;
+  std::size_t computed = 0;
+  run_items(o, w, [&](std::size_t b, std::size_t e) { computed += e - b; return toy_blobs(b, e); },
+            [](std::size_t, std::string_view) {});
+  EXPECT_EQ(computed, w.size());
+  std::size_t next = 0;
+  read_partials(open_partials({dir}), [&](std::size_t item, std::string_view blob) {
+    EXPECT_EQ(item, next++);
+    EXPECT_EQ(blob, blob_of(item));
+  });
+  EXPECT_EQ(next, w.size());
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Distribute, AHeaderClaimingABillionShardsCostsAShortMessage) {
+  const auto dir = scratch("billion");
+  const std::vector<std::uint64_t> w(4, 1);
+  DistOptions o = toy_options(dir);
+  o.shard = Shard{0, 1'000'000'000};
+  run_items(o, w, toy_blobs, [](std::size_t, std::string_view) {});  // shard 0 of a billion: no N-sized table
+  try {
+    open_partials({dir});
+    ADD_FAILURE() << "999,999,999 shards missing and accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_LT(what.size(), 600u) << what.substr(0, 600);
+    EXPECT_NE(what.find("1, 2, 3"), std::string::npos) << what;
+    EXPECT_NE(what.find("more"), std::string::npos) << what;
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

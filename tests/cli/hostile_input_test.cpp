@@ -7,7 +7,6 @@
 #include "src/base/error.h"
 #include "src/base/files.h"
 #include "src/base/text.h"
-#include "src/cli/distribute.h"
 #include "support/fixtures.h"
 
 #include <gtest/gtest.h>
@@ -205,70 +204,7 @@ TEST(HostileFiles, WriteFileAtomicallyReplacesALinkAndLeavesNoTemporary) {
 
 // ---- 3 (page escaping) is tested with the page writer -----------------------
 
-// ---- 4. Records and headers that lie about sizes ----------------------------
-
-std::vector<std::string> toy_blobs(std::size_t b, std::size_t e) {
-  std::vector<std::string> out;
-  for (std::size_t k = b; k < e; ++k) out.push_back("item " + std::to_string(k));
-  return out;
-}
-
-DistOptions toy(const fs::path& out) {
-  DistOptions o;
-  o.command = "toy";
-  o.fingerprint = "f00d";
-  o.setup = "{}";
-  o.out = out;
-  o.chunk_weight = 2;
-  return o;
-}
-
-TEST(HostileFiles, AJournalRecordClaimingTerabytesIsRedoneNotAllocated) {
-  TempDir dir("hostile");
-  const std::vector<std::uint64_t> w(6, 1);
-  DistOptions o = toy(dir.path());
-  o.shard = Shard{0, 1};
-  run_items(o, w, toy_blobs, [](std::size_t, std::string_view) {});
-  const fs::path file = partial_path(dir.path(), *o.shard);
-  std::string bytes = read_text(file);
-  // The first record's length field: after the two header lines and the tag and item.
-  const std::size_t first_record = bytes.find('\n', bytes.find('\n') + 1) + 1;
-  ASSERT_EQ(bytes[first_record], 'R');
-  const std::uint64_t lie = (std::uint64_t{1} << 40) - 1;
-  std::memcpy(bytes.data() + first_record + 9, &lie, 8);
-  write_text(file, bytes);
-  // Not a complete partial any more: merge refuses it with a message, no allocation.
-  EXPECT_THROW(open_partials({dir.path()}), InputError);
-  // --resume redoes every item from the lying record on.
-  o.resume = true;
-  std::size_t computed = 0;
-  run_items(o, w, [&](std::size_t b, std::size_t e) { computed += e - b; return toy_blobs(b, e); },
-            [](std::size_t, std::string_view) {});
-  EXPECT_EQ(computed, w.size());
-  std::size_t next = 0;
-  read_partials(open_partials({dir.path()}), [&](std::size_t item, std::string_view blob) {
-    EXPECT_EQ(item, next++);
-    EXPECT_EQ(blob, "item " + std::to_string(item));
-  });
-  EXPECT_EQ(next, w.size());
-}
-
-TEST(HostileFiles, AHeaderClaimingABillionShardsCostsAShortMessage) {
-  TempDir dir("hostile");
-  const std::vector<std::uint64_t> w(4, 1);
-  DistOptions o = toy(dir.path());
-  o.shard = Shard{0, 1'000'000'000};
-  run_items(o, w, toy_blobs, [](std::size_t, std::string_view) {});  // shard 0 of a billion: no N-sized table
-  try {
-    open_partials({dir.path()});
-    ADD_FAILURE() << "999,999,999 shards missing and accepted";
-  } catch (const InputError& e) {
-    const std::string what = e.what();
-    EXPECT_LT(what.size(), 600u) << what.substr(0, 600);
-    EXPECT_NE(what.find("1, 2, 3"), std::string::npos) << what;
-    EXPECT_NE(what.find("more"), std::string::npos) << what;
-  }
-}
+// ---- 4. Records and headers that lie about sizes: tests/cli/distribute_test.cpp
 
 // ---- 5. Devices, FIFOs and folders as inputs ---------------------------------
 
