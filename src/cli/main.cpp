@@ -159,7 +159,8 @@ int main(int argc, char** argv) {
                        "also certify the motion between states (joints linear in driving parameters)");
   verify_cmd
       ->add_option("--continuous-tolerance", verify.continuous_tolerance,
-                   "clearance witness tolerance between states, in the scene's length unit (default 1e-5 m)")
+                   "clearance witness tolerance between states, in the scene's length unit: at least 1e-8 m; "
+                   "default 1e-5 m")
       ->check(kFinitePositive)
       ->needs(continuous);
   std::string verify_shard;
@@ -189,7 +190,7 @@ int main(int argc, char** argv) {
   add_robot_options(dig_cmd, srdf, packages);
   dig_cmd->footer("Exit status: 0 dug and written, 2 bad input (the scene needs a terrain and a scoop block).");
   dig_cmd->add_option("PLAN", dig_plan, "plan file (CSV)")->required();
-  dig_cmd->add_flag("--quiet", dig.quiet, "no progress on stderr");
+  dig_cmd->add_flag("--quiet", dig.quiet, "no progress or status lines on stderr");
   dig_cmd->add_option("--out", dig_out, "folder for before.asc, after.asc and dig.png")->capture_default_str();
 
   plancheck::SweepArgs sweep;
@@ -224,6 +225,17 @@ int main(int argc, char** argv) {
       "bench", "reproduce the paper's Table 3 beside FCL: SCENE [PLAN... | --random N [--seed S]] [--json FILE] [--fcl]; --two-mesh [--poses N] (runs plancheck_bench)");
   bench_cmd->allow_extras();
   bench_cmd->prefix_command();
+  bench_cmd->footer(
+      "Arguments go to plancheck_bench (built beside plancheck):\n"
+      "  SCENE [PLAN.csv...]     the plans (default: the scene folder's plans/*.csv)\n"
+      "  --random N [--seed S]   N cold configurations drawn within the limits instead of plans\n"
+      "  --fcl                   time FCL 0.7 on the same states, answers checked against it first\n"
+      "  --repetitions N         timed repetitions of plancheck (median; default 5)\n"
+      "  --fcl-repetitions N     timed repetitions of FCL (median; default 1)\n"
+      "  --tolerances R,...      relative distance tolerances of the error table\n"
+      "  --json FILE             also write the tables as JSON\n"
+      "  --two-mesh [--poses N] [--seed S] [--json FILE]   one mesh at random poses over another\n"
+      "Exit status: 0 answers agreed and timed, 2 bad input or no plancheck_bench, 3 answers that disagree (nothing timed).");
 
   try {
     app.parse(argc, argv);
