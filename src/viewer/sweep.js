@@ -3,7 +3,7 @@
 // others set by sliders), the arm at the configuration under the pointer,
 // the targets of the safe configurations over the terrain seen from above.
 import * as THREE from 'three';
-import { View3D, f32, el, fmt, VERDICT_COLORS } from './common.js';
+import { View3D, f32, partIndices, el, fmt, VERDICT_COLORS } from './common.js';
 
 const CODES = ['safe', 'clearance', 'collision', 'limits'];
 const CODE_RGB = [[46, 125, 50], [239, 143, 0], [198, 40, 40], [106, 27, 154]];
@@ -129,7 +129,7 @@ export function sweepPage(data, root) {
   const parts = data.parts.map((p) => {
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(f32(p.positions), 3));
-    g.setIndex(new THREE.BufferAttribute(new Uint32Array(Uint8Array.from(atob(p.indices), (c) => c.charCodeAt(0)).buffer), 1));
+    g.setIndex(new THREE.BufferAttribute(partIndices(p), 1));
     g.computeBoundingBox();
     g.computeBoundingSphere();
     box.union(g.boundingBox);
