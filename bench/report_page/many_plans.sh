@@ -15,7 +15,7 @@ run() {  # run NAME ARGS...: wall seconds and peak RSS (MB) of one verify
   local name=$1; shift
   /usr/bin/time -f "%e %M" -o "$work/$name.time" "$build/plancheck" verify "$data/scene.json" "$work"/plans/*.csv \
     --quiet "$@" > /dev/null || [ $? -eq 1 ]
-  read -r s kb < "$work/$name.time"
+  read -r s kb < <(tail -n 1 "$work/$name.time")  # after "Command exited with non-zero status 1"
   echo "$name: $s s, $((kb / 1024)) MB peak"
 }
 run plain --out "$work/plain" "$@"

@@ -18,6 +18,21 @@ namespace plancheck {
 // sweep.html's verdict codes (those of verdict.npy): 0 safe, 1 clearance, 2 collision, 3 limits.
 std::uint8_t sweep_verdict_code(Verdict v);
 
+// The verdict grid as sweep.html holds it: at most kMaxSweepPageCells
+// cells. Along each axis every stride-th value begins a block of `stride`
+// values; a cell holds the most severe verdict of its block (collision,
+// then limits, then clearance, then safe): a cell is safe only when every
+// configuration it covers is. Strides are 1 (every configuration) when
+// the grid fits.
+inline constexpr std::size_t kMaxSweepPageCells = 4'000'000;
+struct SweepPageGrid {
+  std::vector<std::size_t> stride;  // per axis: values per block
+  std::vector<std::size_t> count;   // per axis: blocks (cells along it)
+  std::vector<std::uint8_t> codes;  // per cell, grid order (the last axis fastest)
+};
+SweepPageGrid pool_sweep_verdicts(const std::vector<SweepAxis>& axes, const std::vector<std::uint8_t>& verdicts,
+                                  std::size_t max_cells = kMaxSweepPageCells);
+
 // Writes dir/sweep.html; dir/sweep.json must exist. verdicts: one code per
 // configuration in grid order (the last axis fastest); safe_targets: the
 // target point (m) of each safe configuration.

@@ -11,14 +11,20 @@ const CODE_RGB = [[46, 125, 50], [239, 143, 0], [198, 40, 40], [106, 27, 154]];
 export function sweepPage(data, root) {
   const sweep = data.sweep;
   const unit = data.length_unit;
-  const axes = data.axes.map((a, k) => ({ ...a, values: sweep.axes[k].values }));
+  // The page's cells: every configuration, or when the grid is finer than
+  // the page holds, blocks of `stride` values per axis (sweep_html.h).
+  const axes = data.axes;
+  const pooled = axes.some((a) => a.stride > 1);
+  // Configuration numbers in the full grid (the first of a cell's block).
+  const fullStrides = axes.map(() => 1);
+  for (let k = axes.length - 2; k >= 0; --k) fullStrides[k] = fullStrides[k + 1] * axes[k + 1].values_total;
   const verdicts = (() => { const s = atob(data.verdicts); const v = new Uint8Array(s.length); for (let i = 0; i < s.length; ++i) v[i] = s.charCodeAt(i); return v; })();
   // Strides of the grid (C order, the last axis fastest).
   const strides = axes.map(() => 1);
   for (let k = axes.length - 2; k >= 0; --k) strides[k] = strides[k + 1] * axes[k + 1].count;
 
   const header = el('header', {}, el('h1', { text: 'plancheck sweep' }),
-    el('span', { class: 'meta', text: `${sweep.scene} · ${sweep.configurations.toLocaleString()} configurations over ${axes.map((a) => `${a.name} (${a.count})`).join(', ')}` }));
+    el('span', { class: 'meta', text: `${sweep.scene} · ${sweep.configurations.toLocaleString()} configurations over ${axes.map((a) => `${a.name} (${a.values_total})`).join(', ')}` }));
   const aside = el('aside');
   const main = el('main');
   const bottom = el('div', { id: 'bottom' });
@@ -32,10 +38,16 @@ export function sweepPage(data, root) {
   const sliceCells = CODES.map((name, c) => {
     const cell = el('td', { class: 'num slice' });
     countTable.append(el('tr', { 'data-verdict': name }, el('td', {}, el('span', { class: 'verdict', style: `background:${VERDICT_COLORS[name]}`, text: name })),
-      el('td', { class: 'num all', text: String(counts[c]) }), cell));
+      el('td', { class: 'num all', text: String(sweep.counts[name]) }), cell));
     return cell;
   });
   aside.append(countTable);
+  if (pooled) {
+    aside.append(el('p', { class: 'hint', id: 'pooled', text: `The grid is finer than the page holds: each cell shows the most severe verdict ` +
+      `(collision, limits, clearance, safe) of the ${axes.map((a) => a.stride).join(' × ')} configurations it covers ` +
+      `(${axes.filter((a) => a.stride > 1).map((a) => `every ${a.stride}th value of ${a.name}`).join(', ')} begins a cell; the arm is posed at that value). ` +
+      `"all" counts every configuration (sweep.json); "this slice" counts cells. verdict.npy holds every configuration.` }));
+  }
   if (sweep.min_distance) aside.append(el('p', { class: 'hint', text: `closest without contact: ${fmt(sweep.min_distance.distance)} ${unit} (${sweep.min_distance.parts.join(' / ')})` }));
 
   // Axis choice and sliders for the others.
@@ -180,7 +192,8 @@ export function sweepPage(data, root) {
         drawTop(q);
       }
     }
-    hoverInfo.textContent = `configuration ${i}: ${axes.map((a, k) => `${a.name} ${fmt(a.values[digits[k]], 6)}`).join(', ')} → ${v}`;
+    const config = digits.reduce((n, d, k) => n + d * axes[k].stride * fullStrides[k], 0);
+    hoverInfo.textContent = `${pooled ? 'cell from ' : ''}configuration ${config}: ${axes.map((a, k) => `${a.name} ${fmt(a.values[digits[k]], 6)}`).join(', ')} → ${v}`;
     drawHeat();
     view.render();
     return { index: i, verdict: v };
