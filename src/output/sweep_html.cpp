@@ -67,7 +67,7 @@ SweepPageGrid pool_sweep_verdicts(const std::vector<SweepAxis>& axes, const std:
 }
 
 void write_sweep_html(const Checker& checker, const Scene& scene, const std::vector<SweepAxis>& axes,
-                      const std::vector<std::uint8_t>& verdicts, const std::vector<Vec3>& safe_targets,
+                      const std::vector<std::uint8_t>& verdicts, const SafeTargetSample& safe_targets,
                       const std::filesystem::path& dir) {
   PageJson sweep;
   {
@@ -131,16 +131,16 @@ void write_sweep_html(const Checker& checker, const Scene& scene, const std::vec
   page["actions"] = actions;
   page["arm"] = arm;
   page["verdicts"] = base64_array(grid.codes);
-  // At most kMaxTargets points drawn (every stride-th safe configuration).
-  constexpr std::size_t kMaxTargets = 500'000;
-  const std::size_t stride = (safe_targets.size() + kMaxTargets - 1) / kMaxTargets;
+  // At most SafeTargetSample::kLimit points drawn (every stride-th safe configuration).
+  const std::vector<Vec3>& kept = safe_targets.kept();
+  const std::size_t stride = std::max<std::size_t>((kept.size() + SafeTargetSample::kLimit - 1) / SafeTargetSample::kLimit, 1);
   std::vector<float> targets;
-  for (std::size_t i = 0; i < safe_targets.size(); i += std::max<std::size_t>(stride, 1)) {
-    const Vec3 q = frame.point(safe_targets[i]);
-    for (int i = 0; i < 3; ++i) targets.push_back(static_cast<float>(q[i]));
+  for (std::size_t i = 0; i < kept.size(); i += stride) {
+    const Vec3 q = frame.point(kept[i]);
+    for (int c = 0; c < 3; ++c) targets.push_back(static_cast<float>(q[c]));
   }
   page["safe_targets"] = base64_array(targets);
-  page["safe_targets_stride"] = std::max<std::size_t>(stride, 1);
+  page["safe_targets_stride"] = stride * safe_targets.stride();
   page["centre_m"] = point_json(frame.centre);
   page["unit_m"] = frame.unit;
 

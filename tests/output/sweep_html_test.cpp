@@ -65,5 +65,19 @@ TEST(SweepPage, PoolsAFineGridIntoItsMostSevereVerdicts) {
   }
 }
 
+// However many targets are pushed, at most 2 * limit are held, and they
+// are exactly every stride-th one.
+TEST(SweepPage, SamplesSafeTargetsWithBoundedMemory) {
+  for (std::size_t pushed : {0u, 5u, 19u, 20u, 21u, 1000u, 4097u}) {
+    SafeTargetSample sample(10);
+    for (std::size_t i = 0; i < pushed; ++i) sample.push(Vec3(static_cast<double>(i), 0, 0));
+    EXPECT_LT(sample.kept().size(), 20u);
+    ASSERT_EQ(sample.kept().size(), pushed == 0 ? 0 : (pushed - 1) / sample.stride() + 1) << pushed;
+    for (std::size_t k = 0; k < sample.kept().size(); ++k)
+      EXPECT_EQ(sample.kept()[k].x(), static_cast<double>(k * sample.stride()));
+    if (pushed >= 20) EXPECT_GE(sample.kept().size(), 10u);
+  }
+}
+
 }  // namespace
 }  // namespace plancheck
