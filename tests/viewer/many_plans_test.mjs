@@ -16,7 +16,8 @@ const size = fs.statSync(a.page).size;
 const opened = await openPage(a.page, { browserPath: a.chromium });
 const { page, browser } = opened;
 const plans = report.plans;
-console.log(`report.html: ${plans.length} plans, ${(size / 1e6).toFixed(1)} MB, first render after ${opened.loadSeconds.toFixed(1)} s`);
+console.log(`report.html: ${plans.length} plans, ${(size / 1e6).toFixed(1)} MB, first render after ${opened.loadSeconds.toFixed(1)} s ` +
+  `(ms: HTML parsed ${opened.phases.html}, data parsed ${opened.phases.data}, page built ${opened.phases.built})`);
 try {
   checkClean(opened);
   const drawn = await drawnPixels(page);
