@@ -3,11 +3,6 @@
 
 #include "src/base/error.h"
 
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
 
 
 // The bundle's bytes, from the generated viewer_bundle.cpp (src/CMakeLists.txt).
@@ -84,12 +79,7 @@ std::string base64(const void* data, std::size_t bytes) {
   return out;
 }
 
-HtmlPageWriter::HtmlPageWriter(const std::filesystem::path& file, std::string_view title)
-    : file_(file), tmp_(file.string() + ".tmp") {
-  // A fresh temporary, never through a link planted where it goes.
-  ::unlink(tmp_.c_str());
-  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd_ < 0) fail(tmp_, std::string("cannot write: ") + std::strerror(errno));
+HtmlPageWriter::HtmlPageWriter(const std::filesystem::path& file, std::string_view title) : file_(file) {
   buffer_.reserve(kBufferBytes);
   write("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
   write("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n");
@@ -97,13 +87,6 @@ HtmlPageWriter::HtmlPageWriter(const std::filesystem::path& file, std::string_vi
   write(html_escape(title));
   write("</title>\n</head>\n<body>\n");
   write(kDataOpen);
-}
-
-HtmlPageWriter::~HtmlPageWriter() {
-  if (fd_ >= 0) {
-    ::close(fd_);
-    ::unlink(tmp_.c_str());
-  }
 }
 
 void HtmlPageWriter::data(std::string_view json) {
@@ -135,13 +118,7 @@ void HtmlPageWriter::finish() {
   write(kScriptClose);
   write("\n</body>\n</html>\n");
   flush();
-  if (::close(fd_) != 0) {
-    fd_ = -1;
-    ::unlink(tmp_.c_str());
-    fail(tmp_, "write failed");
-  }
-  fd_ = -1;
-  std::filesystem::rename(tmp_, file_);
+  file_.commit();
 }
 
 void HtmlPageWriter::write(std::string_view bytes) {
@@ -155,13 +132,7 @@ void HtmlPageWriter::write(std::string_view bytes) {
 }
 
 void HtmlPageWriter::flush() {
-  std::size_t done = 0;
-  while (done < buffer_.size()) {
-    const ssize_t n = ::write(fd_, buffer_.data() + done, buffer_.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail(tmp_, std::string("write failed: ") + std::strerror(errno));
-    done += static_cast<std::size_t>(n);
-  }
+  file_.write(buffer_);
   buffer_.clear();
 }
 

@@ -4,6 +4,8 @@
 // binary) inline, so the file opens from disk with no server and no network.
 #pragma once
 
+#include "src/base/files.h"
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -23,13 +25,12 @@ std::string base64(const void* data, std::size_t bytes);
 
 // A page written piece by piece, so that no page needs its whole data in
 // memory: the head, then the page data (JSON text, streamed in by data()),
-// then the viewer; finish() renames the temporary file into place (a page
-// never finished leaves no file). The data is read by the viewer from
+// then the viewer, into a fresh temporary (files.h) that finish() renames
+// into place (a page never finished leaves no file). The data is read by the viewer from
 // <script type="application/json" id="plancheck-data">.
 class HtmlPageWriter {
  public:
   HtmlPageWriter(const std::filesystem::path& file, std::string_view title);
-  ~HtmlPageWriter();
   HtmlPageWriter(const HtmlPageWriter&) = delete;
   HtmlPageWriter& operator=(const HtmlPageWriter&) = delete;
 
@@ -43,8 +44,7 @@ class HtmlPageWriter {
  private:
   void write(std::string_view bytes);
   void flush();
-  std::filesystem::path file_, tmp_;
-  int fd_ = -1;
+  TempFile file_;
   std::string buffer_;
 };
 
