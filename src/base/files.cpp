@@ -3,6 +3,7 @@
 
 #include "src/base/error.h"
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -178,6 +179,22 @@ void TempFile::commit() {
   if (::close(fd) != 0) fail(final_, "write failed: " + errno_text(errno));
   if (::rename(temp_.c_str(), final_.c_str()) != 0) fail(final_, "cannot write: " + errno_text(errno));
   temp_.clear();
+}
+
+void remove_stale_temporaries(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::directory_iterator it(dir, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    constexpr std::size_t kHex = 16, kTail = 1 + kHex + 4;  // ".<hex>.tmp"
+    if (name.size() < 2 + kTail || name.front() != '.' || !name.ends_with(".tmp")) continue;
+    const std::size_t dot = name.size() - kTail;
+    if (name[dot] != '.') continue;
+    bool hex = true;
+    for (std::size_t i = dot + 1; i < dot + 1 + kHex; ++i)
+      hex = hex && std::isxdigit(static_cast<unsigned char>(name[i])) && !std::isupper(static_cast<unsigned char>(name[i]));
+    if (hex) ::unlink(it->path().c_str());
+  }
 }
 
 void write_file_atomically(const std::filesystem::path& file, std::string_view bytes) {

@@ -75,6 +75,11 @@ class TempFile {
   int fd_ = -1;
 };
 
+// Removes from `dir` the temporaries a TempFile left when its process was
+// killed (names ".NAME.<16 hex digits>.tmp"; links among them are removed,
+// not followed). A run calls it before writing its outputs there.
+void remove_stale_temporaries(const std::filesystem::path& dir);
+
 // The whole of `bytes` as `file`, through a TempFile.
 void write_file_atomically(const std::filesystem::path& file, std::string_view bytes);
 

@@ -5,6 +5,7 @@
 
 #include "src/checks/continuous.h"
 #include "src/base/error.h"
+#include "src/base/files.h"
 
 #include "src/output/report_html.h"
 #include "src/output/result_blob.h"
@@ -97,7 +98,10 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   const bool may_write = rank == 0 && !args.shard;
   // An old report in DIR must not pass for this run's if this run fails.
   std::error_code ec;
-  if (may_write) std::filesystem::remove(args.out / "report.json", ec);
+  if (may_write) {
+    std::filesystem::remove(args.out / "report.json", ec);
+    remove_stale_temporaries(args.out);  // what a killed run left half-written
+  }
 
   RunInfo info;
   info.scene_arg = args.scene;

@@ -99,6 +99,7 @@ void prepare_out(const std::filesystem::path& out) {
     std::filesystem::remove(out / name, ec);
   std::filesystem::create_directories(out, ec);
   if (ec) throw InputError(out.string() + ": cannot create the folder (" + ec.message() + ")");
+  remove_stale_temporaries(out);  // what a killed run left half-written
 }
 
 // distance.npy's value: a float32 lower bound of d (m) in length_unit,

@@ -189,6 +189,18 @@ TEST(HostileFiles, WriteFileAtomicallyReplacesALinkAndLeavesNoTemporary) {
   ::close(fd);
   EXPECT_FALSE(fs::is_symlink(dir / "journal"));
   EXPECT_EQ(read_text(dir / "target"), "precious\n");
+  // What a killed run leaves is cleared by the next; nothing else is.
+  fs::create_directories(dir / "out");
+  for (const char* name : {".report.json.0123456789abcdef.tmp", ".keep.tmp", "mine.0123456789abcdef.tmp",
+                           ".x.0123456789ABCDEF.tmp", ".p.csv.00000000000000zz.tmp"})
+    write_text(dir / "out" / name, "x");
+  fs::create_symlink(dir / "target", dir / "out" / ".verdict.npy.fedcba9876543210.tmp");
+  remove_stale_temporaries(dir / "out");
+  std::vector<std::string> left = files_in(dir / "out");
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{".keep.tmp", ".p.csv.00000000000000zz.tmp", ".x.0123456789ABCDEF.tmp",
+                                            "mine.0123456789abcdef.tmp"}));
+  EXPECT_EQ(read_text(dir / "target"), "precious\n");
 }
 
 // ---- 3 (page escaping) is tested with the page writer -----------------------
