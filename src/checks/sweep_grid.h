@@ -16,8 +16,6 @@ namespace plancheck {
 // grow with the grid. Most values one axis may have.
 inline constexpr std::size_t kMaxSweepConfigurations = 2'000'000'000;
 inline constexpr std::size_t kMaxSweepAxisValues = 20'000'000;
-// sweep.html holds every configuration's verdict in the page: at most this many.
-inline constexpr std::size_t kMaxSweepPageConfigurations = 20'000'000;
 
 // One swept driving parameter and its values.
 struct SweepAxis {

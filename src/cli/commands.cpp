@@ -52,6 +52,7 @@ std::string verify_setup(const VerifyArgs& a) {
   s["continuous_tolerance"] = a.continuous_tolerance;
   s["verdict_only"] = a.verdict_only;
   s["html"] = a.html;
+  s["html_plans"] = {{"closest", a.html_plans.closest}, {"names", a.html_plans.names}};
   s["json"] = a.json;
   return s.dump();
 }
@@ -67,6 +68,8 @@ VerifyArgs verify_args_from_setup(const std::string& text, const std::filesystem
     a.continuous_tolerance = s.at("continuous_tolerance").get<double>();
     a.verdict_only = s.at("verdict_only").get<bool>();
     a.html = s.at("html").get<bool>();
+    a.html_plans.closest = s.at("html_plans").at("closest").get<std::size_t>();
+    a.html_plans.names = s.at("html_plans").at("names").get<std::vector<std::string>>();
     a.json = s.at("json").get<bool>();
   } catch (const nlohmann::json::exception&) {
     fail(file, "its verify setup is not readable (corrupt)");
@@ -135,6 +138,7 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   plans.reserve(args.plans.size());
   for (const auto& p : args.plans) plans.push_back(load_plan(scene, p));
   check_plan_csv_names(plans);  // two plans, one DIR/<name>.csv: refused before any checking
+  check_html_plans(args.html_plans, plans);
   const std::string setup = verify_setup(args);
   // The fingerprint hashes every byte the run reads (some 20 MB on the
   // default scene, one byte at a time): merge compares it now, a run needs
@@ -252,7 +256,7 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   write_reports(checker, scene, results, info, args.out);
   if (args.html) {
     const auto th = std::chrono::steady_clock::now();
-    write_report_html(checker, scene, results, args.out, ReportPageOptions{args.dig_carry});
+    write_report_html(checker, scene, results, args.out, ReportPageOptions{args.dig_carry, args.html_plans});
     log << "plancheck: wrote " << (args.out / "report.html").string() << " (" << seconds_since(th) << " s)\n";
   } else {
     std::filesystem::remove(args.out / "report.html", ec);  // not this run's

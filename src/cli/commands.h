@@ -3,6 +3,7 @@
 #pragma once
 
 #include "src/cli/distribute.h"
+#include "src/output/report_html.h"
 #include "src/scene/scene_loader.h"
 
 #include <filesystem>
@@ -24,6 +25,7 @@ struct VerifyArgs {
   bool continuous = false;   // also certify the motion between consecutive states (src/checks/continuous.h)
   double continuous_tolerance = 0.0;  // clearance witness tolerance, scene length_unit; 0: the default
   bool html = false;         // also DIR/report.html (src/output/report_html.h)
+  HtmlPlanChoice html_plans; // --html-plans: the plans report.html details besides the violating ones
   bool quiet = false;        // no progress on stderr
   bool verdict_only = false; // each state's verdict and first pair at fault; distances exact only below the margin
   std::optional<Shard> shard;  // --shard I/N: this part of the plans, a partial result in DIR (distribute.h)

@@ -149,7 +149,12 @@ int main(int argc, char** argv) {
   verify_cmd->add_option("--out", out_dir, "folder for report.json and one CSV per plan")->capture_default_str();
   verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(kThreadCount);
   verify_cmd->add_flag("--json", verify.json, "print report.json on stdout instead of the plan lines");
-  verify_cmd->add_flag("--html", verify.html, "also write DIR/report.html: the plans replayed in 3D, one self-contained file");
+  CLI::Option* html_flag =
+      verify_cmd->add_flag("--html", verify.html, "also write DIR/report.html: the plans replayed in 3D, one self-contained file");
+  std::string html_plans;
+  CLI::Option* html_plans_opt = verify_cmd->add_option("--html-plans", html_plans,
+      "N|NAME,...: the plans whose every state report.html details besides the violating ones: the N closest to "
+      "the margin (default 20), or those named")->needs(html_flag);
   verify_cmd->add_flag("--quiet", verify.quiet, "no progress or status lines on stderr");
   verify_cmd->add_flag("--verdict-only", verify.verdict_only,
                        "each state's verdict and first pair at fault only: the first contact, and exact distances only "
@@ -257,6 +262,7 @@ int main(int argc, char** argv) {
       verify.plans.assign(plan_files.begin(), plan_files.end());
       verify.out = out_dir;
       if (*shard_opt) verify.shard = plancheck::parse_shard(verify_shard);
+      if (*html_plans_opt) verify.html_plans = plancheck::parse_html_plans(html_plans);
       return plancheck::run_verify(verify, std::cout, verify.quiet ? quiet_err : std::cerr);
     } else if (merge_cmd->parsed()) {
       merge.parts.assign(merge_parts.begin(), merge_parts.end());

@@ -88,9 +88,6 @@ Grid parse_grid(const Scene& scene, const SweepArgs& args) {
     grid.total *= a.values.size();
   }
   grid.reference = scene.reference_parameters;
-  if (args.html && grid.total > kMaxSweepPageConfigurations)
-    throw InputError("--html: sweep.html holds at most " + std::to_string(kMaxSweepPageConfigurations) +
-                     " configurations, this grid has " + std::to_string(grid.total) + "; leave out --html");
   return grid;
 }
 
@@ -130,7 +127,7 @@ struct Tally {
   Vec3 reach_lo = Vec3::Constant(std::numeric_limits<double>::infinity());  // safe targets' box (m)
   Vec3 reach_hi = -reach_lo;
   std::vector<std::uint8_t> page_verdicts;  // --html: every configuration's verdict, the safe ones' targets
-  std::vector<Vec3> page_targets;
+  SafeTargetSample page_targets;
   double check_seconds = 0.0;
   std::size_t checked = 0;      // configurations with an exact distance (or in contact)
   std::size_t pair_checks = 0;  // certified path: single-pair answers computed
@@ -354,7 +351,7 @@ void consume_rows(const Checker& checker, const Scene& scene, const Grid& grid, 
     }
     if (args.html) tally.page_verdicts.push_back(sweep_verdict_code(row.verdict));
     if (row.verdict == Verdict::kSafe) {
-      if (args.html) tally.page_targets.push_back(row.target);
+      if (args.html) tally.page_targets.push(row.target);
       for (std::size_t k = 0; k < axes.size(); ++k) ++tally.safe_by_value[k][digits[k]];
       tally.reach_lo = tally.reach_lo.cwiseMin(row.target);
       tally.reach_hi = tally.reach_hi.cwiseMax(row.target);
@@ -877,8 +874,10 @@ int sweep_run(const SweepArgs& args, std::ostream& out, std::ostream& err, const
     // The page's targets of safe configurations, in grid order.
     for (std::size_t i = 0; i < grid.total; ++i) {
       if (tally.page_verdicts[i] != sweep_verdict_code(Verdict::kSafe)) continue;
-      grid.decode(i, params_scratch(), nullptr);
-      tally.page_targets.push_back(checker.target_point(params_scratch()));
+      tally.page_targets.push_with([&] {
+        grid.decode(i, params_scratch(), nullptr);
+        return checker.target_point(params_scratch());
+      });
     }
   }
   tally.check_seconds = seconds_since(t_check);

@@ -2,7 +2,7 @@
 #include "src/output/html_page.h"
 
 #include "src/base/error.h"
-#include "src/output/report.h"
+
 
 
 // The bundle's bytes, from the generated viewer_bundle.cpp (src/CMakeLists.txt).
@@ -18,6 +18,7 @@ namespace {
 
 constexpr std::string_view kDataOpen = "<script type=\"application/json\" id=\"plancheck-data\">";
 constexpr std::string_view kScriptClose = "</script>";
+constexpr std::size_t kBufferBytes = 1 << 20;
 
 // Inside <script>, the HTML parser ends the element at the first "</script"
 // whatever the JavaScript around it: "</" becomes "<\/", the same string in
@@ -78,20 +79,67 @@ std::string base64(const void* data, std::size_t bytes) {
   return out;
 }
 
-void write_html_page(const std::filesystem::path& file, std::string_view title, std::string_view json) {
-  const std::string_view bundle = viewer_bundle();
-  std::string page;
-  page.reserve(json.size() + bundle.size() + 1024);
-  page += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
-  page += "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
-  page.append("<title>").append(html_escape(title)).append("</title>\n</head>\n<body>\n");
-  page.append(kDataOpen);
-  append_script_text(page, json);
-  page.append(kScriptClose).append("\n<script>");
-  append_script_text(page, bundle);
-  page.append(kScriptClose).append("\n</body>\n</html>\n");
+HtmlPageWriter::HtmlPageWriter(const std::filesystem::path& file, std::string_view title) : file_(file) {
+  buffer_.reserve(kBufferBytes);
+  write("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
+  write("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n");
+  write("<title>");
+  write(html_escape(title));
+  write("</title>\n</head>\n<body>\n");
+  write(kDataOpen);
+}
 
-  write_atomically(file, page);
+void HtmlPageWriter::data(std::string_view json) {
+  std::size_t from = 0;
+  for (std::size_t i = 0; i < json.size(); ++i) {
+    const char c = json[i];
+    std::string_view escape;
+    if (c == '<') {
+      escape = "\\u003c";
+    } else if (c == '\xE2' && i + 2 < json.size() && json[i + 1] == '\x80' && (json[i + 2] == '\xA8' || json[i + 2] == '\xA9')) {
+      escape = json[i + 2] == '\xA8' ? "\\u2028" : "\\u2029";
+    } else {
+      continue;
+    }
+    write(json.substr(from, i - from));
+    write(escape);
+    if (c != '<') i += 2;
+    from = i + 1;
+  }
+  write(json.substr(from));
+}
+
+void HtmlPageWriter::finish() {
+  write(kScriptClose);
+  write("\n<script>");
+  std::string bundle;
+  append_script_text(bundle, viewer_bundle());
+  write(bundle);
+  write(kScriptClose);
+  write("\n</body>\n</html>\n");
+  flush();
+  file_.commit();
+}
+
+void HtmlPageWriter::write(std::string_view bytes) {
+  if (buffer_.size() + bytes.size() > kBufferBytes) flush();
+  if (bytes.size() > kBufferBytes) {
+    buffer_ = bytes;
+    flush();
+    return;
+  }
+  buffer_.append(bytes);
+}
+
+void HtmlPageWriter::flush() {
+  file_.write(buffer_);
+  buffer_.clear();
+}
+
+void write_html_page(const std::filesystem::path& file, std::string_view title, std::string_view json) {
+  HtmlPageWriter page(file, title);
+  page.data(json);
+  page.finish();
 }
 
 std::string html_page_data(std::string_view page) {
@@ -100,16 +148,8 @@ std::string html_page_data(std::string_view page) {
   const std::size_t from = begin + kDataOpen.size();
   const std::size_t end = page.find(kScriptClose, from);
   if (end == std::string_view::npos) return {};
-  std::string out;
-  const std::string_view text = page.substr(from, end - from);
-  // Undo append_script_text: "<\/" back to "</" (JSON reads both the same).
-  std::size_t at = 0;
-  for (std::size_t k = text.find("<\\/"); k != std::string_view::npos; k = text.find("<\\/", at)) {
-    out.append(text.substr(at, k - at)).append("</");
-    at = k + 3;
-  }
-  out.append(text.substr(at));
-  return out;
+  // \u003c and the like are JSON's own escapes: the text parses as it is.
+  return std::string(page.substr(from, end - from));
 }
 
 }  // namespace plancheck

@@ -3,6 +3,9 @@
 
 #include "src/checks/probes.h"
 
+#include <algorithm>
+#include <climits>
+#include <cstdint>
 #include <limits>
 
 namespace plancheck {
@@ -39,6 +42,35 @@ PageJson dem_rect_json(const Dem& dem, const Vec3& origin, const PageFrame& fram
   return {{"c0", rect.c0}, {"r0", rect.r0}, {"c1", rect.c1}, {"r1", rect.r1}, {"z", base64_array(z)}};
 }
 
+PageJson quantized_json(const std::vector<float>& values, int stride) {
+  const std::size_t k = static_cast<std::size_t>(stride);
+  std::vector<double> lo(k, std::numeric_limits<double>::infinity()), hi(k, -std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (std::isfinite(values[i])) {
+      lo[i % k] = std::min(lo[i % k], static_cast<double>(values[i]));
+      hi[i % k] = std::max(hi[i % k], static_cast<double>(values[i]));
+    }
+  std::vector<double> step(k);
+  for (std::size_t c = 0; c < k; ++c) {
+    if (!(lo[c] <= hi[c])) lo[c] = hi[c] = 0.0;
+    step[c] = hi[c] > lo[c] ? (hi[c] - lo[c]) / 65534.0 : 1.0;
+  }
+  std::vector<std::uint16_t> q(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i)
+    q[i] = std::isfinite(values[i])
+               ? static_cast<std::uint16_t>(std::clamp(std::lround((values[i] - lo[i % k]) / step[i % k]), 0L, 65534L))
+               : std::uint16_t{65535};
+  return {{"lo", lo}, {"step", step}, {"q", base64_array(q)}};
+}
+
+PageJson ints_json(const std::vector<std::int32_t>& values) {
+  if (std::all_of(values.begin(), values.end(), [](std::int32_t v) { return v >= INT16_MIN && v <= INT16_MAX; })) {
+    const std::vector<std::int16_t> small(values.begin(), values.end());
+    return {{"i16", base64_array(small)}};
+  }
+  return {{"i32", base64_array(values)}};
+}
+
 namespace {
 
 PageJson part_json(const Scene& scene, const Part& part, const PageFrame& frame) {
@@ -51,13 +83,21 @@ PageJson part_json(const Scene& scene, const Part& part, const PageFrame& frame)
   std::vector<std::uint32_t> indices;
   indices.reserve(part.mesh.triangles.size() * 3);
   for (const Tri& t : part.mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
-  return {{"name", part.name},
-          {"node", part.node},
-          {"path", scene.nodes[static_cast<std::size_t>(part.node)].path},
-          {"chain", part.chain_id},
-          {"triangles", part.mesh.triangles.size()},
-          {"positions", base64_array(positions)},
-          {"indices", base64_array(indices)}};
+  PageJson out = {{"name", part.name},
+                  {"node", part.node},
+                  {"path", scene.nodes[static_cast<std::size_t>(part.node)].path},
+                  {"chain", part.chain_id},
+                  {"triangles", part.mesh.triangles.size()},
+                  {"positions", base64_array(positions)}};
+  // Indices as uint16 where the part's vertices allow it: a third of the
+  // default scene's page.
+  if (part.mesh.vertices.size() <= 65536) {
+    const std::vector<std::uint16_t> small(indices.begin(), indices.end());
+    out["indices16"] = base64_array(small);
+  } else {
+    out["indices"] = base64_array(indices);
+  }
+  return out;
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace plancheck {
@@ -36,6 +37,16 @@ template <class T>
 std::string base64_array(const std::vector<T>& v) {
   return base64(v.data(), v.size() * sizeof(T));
 }
+
+// Values (NaN: none) in `stride` components, each quantized to 16 bits over
+// its own range: {"lo": [...], "step": [...], "q": base64 uint16}, value =
+// lo + q * step, q = 65535 for NaN. The error is at most step / 2: for what
+// is drawn (points, heights, ray lengths), never for what is judged.
+PageJson quantized_json(const std::vector<float>& values, int stride);
+
+// Small integers (part indices, probe hits) as int16 when they all fit,
+// else int32: {"i16": base64} or {"i32": base64}.
+PageJson ints_json(const std::vector<std::int32_t>& values);
 
 inline PageJson number_or_null(double v) { return std::isfinite(v) ? PageJson(v) : PageJson(nullptr); }
 inline PageJson point_json(const Vec3& p) { return PageJson::array({p.x(), p.y(), p.z()}); }

@@ -16,7 +16,23 @@ function bytes(b64) {
   return out;
 }
 export const f32 = (b64) => new Float32Array(bytes(b64).buffer);
+export const f64 = (b64) => new Float64Array(bytes(b64).buffer);
 export const u32 = (b64) => new Uint32Array(bytes(b64).buffer);
+export const i32 = (b64) => new Int32Array(bytes(b64).buffer);
+export const u8 = (b64) => bytes(b64);
+export const i8 = (b64) => new Int8Array(bytes(b64).buffer);
+// quantized_json (src/output/scene_page.h): 16-bit steps over each component's range; NaN where none.
+export function dequantize(qj) {
+  const q = new Uint16Array(bytes(qj.q).buffer);
+  const k = qj.lo.length;
+  const out = new Float32Array(q.length);
+  for (let i = 0; i < q.length; ++i) out[i] = q[i] === 65535 ? NaN : qj.lo[i % k] + q[i] * qj.step[i % k];
+  return out;
+}
+// ints_json: int16 or int32.
+export const ints = (j) => (j.i16 !== undefined ? new Int16Array(bytes(j.i16).buffer) : i32(j.i32));
+// A part's triangle indices (uint16 where its vertices allow).
+export const partIndices = (p) => (p.indices16 !== undefined ? new Uint16Array(bytes(p.indices16).buffer) : u32(p.indices));
 
 export function el(tag, attrs = {}, ...children) {
   const e = document.createElement(tag);

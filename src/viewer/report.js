@@ -1,8 +1,14 @@
 // SPDX-License-Identifier: MIT
-// report.html: plans, the scene in 3D at any state, the timeline, the chart.
+// report.html: an overview across plans, the plan table (violations first,
+// sortable, filterable), the scene in 3D at any state of any plan, the
+// timeline, the chart. Plans are posed here from their parameters
+// (kinematics.js); the plans with detail also carry closest points,
+// contacts, probes and the terrain dug.
 import * as THREE from 'three';
 import uPlot from 'uplot';
-import { View3D, f32, u32, el, fmt, VERDICT_COLORS, VERDICT_BY_CODE, terrainColor } from './common.js';
+import { View3D, f32, f64, u8, i8, dequantize, ints, partIndices, el, fmt, VERDICT_COLORS, VERDICT_BY_CODE, terrainColor } from './common.js';
+import { chainPoses, poseDeviation } from './kinematics.js';
+import { overview } from './overview.js';
 
 const COLOR_STATIC = new THREE.Color(0x8d939c);
 const COLOR_MOVING = new THREE.Color(0x6f9fd8);
@@ -45,7 +51,7 @@ export function reportPage(data, root) {
   const parts = data.parts.map((p, i) => {
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(f32(p.positions), 3));
-    g.setIndex(new THREE.BufferAttribute(u32(p.indices), 1));
+    g.setIndex(new THREE.BufferAttribute(partIndices(p), 1));
     g.computeBoundingSphere();
     g.computeBoundingBox();
     box.union(g.boundingBox);
@@ -99,27 +105,94 @@ export function reportPage(data, root) {
   });
 
   // Per plan, decoded on first use.
-  const plans = data.plans.map((p, i) => ({ ...p, summary: report.plans[i], decoded: null }));
+  const names = data.checked_part_names;
+  const partIndex = new Map(names.map((n, i) => [n, i]));
+  const nparams = data.parameter_names.length;
+  const plans = data.plans.map((p, i) => ({ ...p, index: i, summary: report.plans[i], decoded: null }));
+  const extent = Math.max(1, size);
+  let poseWorst = 0, poseStates = 0;
   function decoded(plan) {
     if (!plan.decoded) {
-      plan.decoded = {
-        chains: f32(plan.chains),
-        points: f32(plan.points),
-        scoop: plan.scoop_point ? f32(plan.scoop_point) : null,
-        dig: (plan.dig || []).map((d) => ({ ...d, z: f32(d.z) })),
-        digStart: plan.dig_start ? { ...plan.dig_start, z: f32(plan.dig_start.z) } : null,
+      const d = {
+        params: plan.params_type === 'f64' ? f64(plan.params) : f32(plan.params),
+        distance: f32(plan.distance),
+        verdict: u8(plan.verdict),
+        pair: plan.pair ? ints(plan.pair) : null,
+        points: plan.points ? dequantize(plan.points) : null,
+        probeDistance: plan.probe_distance ? dequantize(plan.probe_distance) : null,
+        probeHit: plan.probe_hit ? ints(plan.probe_hit) : null,
+        segLower: plan.segment_lower_bound ? f32(plan.segment_lower_bound) : null,
+        segBad: plan.segment_violation ? u8(plan.segment_violation) : null,
+        dig: plan.dig ? digRects(plan.dig) : [],
+        digStart: plan.dig_start ? digRects(plan.dig_start)[0] : null,
+        chains: new Array(data.chains * 12).fill(0),
+        posed: -1,
+        // Without detail: the pairs report.json names (first violation, closest approach).
+        known: new Map(),
       };
+      const s = plan.summary;
+      if (s.min_distance_parts) d.known.set(s.min_distance_state, { parts: s.min_distance_parts, kind: 'closest' });
+      if (s.first_violation?.parts) d.known.set(s.first_violation.state, { parts: s.first_violation.parts, kind: s.first_violation.kind });
+      // The page's poses against the checker's, where the page carries them.
+      const cp = plan.checker_poses;
+      const dev = poseDeviation(data, d.params, { states: cp.states, transforms: f32(cp.transforms) });
+      poseWorst = Math.max(poseWorst, dev);
+      poseStates += cp.states.length;
+      d.poseDeviation = dev;
+      if (!(dev <= 1e-5 * extent)) console.error(`report.html: ${plan.name}: the page's poses differ from the checker's by ${dev}`);
+      plan.decoded = d;
     }
     return plan.decoded;
+  }
+  const dist = (d, s) => (Number.isNaN(d.distance[s]) ? null : d.distance[s]);
+  function posed(d, s) {
+    if (d.posed !== s) { chainPoses(data, d.params, s * nparams, d.chains); d.posed = s; }
+    return d.chains;
   }
 
   const state = { plan: -1, s: 0, playing: false, loop: true, speed: 1 };
 
-  // Plan list.
-  aside.append(el('h2', { text: 'Plans' }));
+  // Overview across plans, then the plan table.
   const table = el('table', { id: 'plans' });
-  table.append(el('tr', {}, el('th', { text: 'plan' }), el('th', { text: 'verdict' }), el('th', { text: 'states' }),
-    el('th', { text: `min (${unit})` }), el('th', { text: 'first violation' })));
+  const overviewBox = overview(data, report, {
+    onVerdict: (v) => { verdictFilter.value = v; applyFilter(); },
+  });
+  aside.append(overviewBox.element);
+
+  aside.append(el('h2', { text: 'Plans' }));
+  const verdictFilter = el('select', { id: 'verdictfilter', title: 'show plans of this verdict' });
+  verdictFilter.append(el('option', { value: '', text: 'all verdicts' }), el('option', { value: 'violating', text: 'violating' }));
+  for (const v of VERDICT_BY_CODE) if (report.plans.some((p) => p.verdict === v)) verdictFilter.append(el('option', { value: v, text: v }));
+  const nameFilter = el('input', { type: 'search', id: 'namefilter', placeholder: 'filter by name' });
+  const shown = el('span', { class: 'hint', id: 'shown' });
+  aside.append(el('div', { class: 'filters' }, verdictFilter, ' ', nameFilter, ' ', shown));
+  verdictFilter.addEventListener('change', () => applyFilter());
+  nameFilter.addEventListener('input', () => applyFilter());
+
+  // Sort keys: violations first, then the closest, then by name.
+  const RANK = { collision: 0, clearance: 1, limits: 2, target: 3, safe: 4 };
+  const minKey = (p) => (p.summary.min_distance === null ? Infinity : p.summary.min_distance);
+  const byName = (a, b) => (a.summary.name < b.summary.name ? -1 : a.summary.name > b.summary.name ? 1 : a.index - b.index);
+  const SORTS = {
+    verdict: (a, b) => (RANK[a.summary.verdict] - RANK[b.summary.verdict]) || (minKey(a) - minKey(b)) || byName(a, b),
+    min: (a, b) => (minKey(a) - minKey(b)) || byName(a, b),
+    states: (a, b) => (a.summary.states - b.summary.states) || byName(a, b),
+    name: byName,
+  };
+  const sort = { key: 'verdict', dir: 1 };
+  const head = el('tr');
+  for (const [key, text] of [['name', 'plan'], ['verdict', 'verdict'], ['states', 'states'], ['min', `min (${unit})`], [null, 'first violation']]) {
+    const th = el('th', { text });
+    if (key) {
+      th.classList.add('sortable');
+      th.dataset.sort = key;
+      th.title = 'sort by ' + text;
+      th.addEventListener('click', () => { sort.dir = sort.key === key ? -sort.dir : 1; sort.key = key; applySort(); });
+    }
+    head.append(th);
+  }
+  const tbody = el('tbody');
+  table.append(el('thead', {}, head), tbody);
   const rows = plans.map((p, i) => {
     const s = p.summary;
     const fv = s.first_violation;
@@ -134,22 +207,45 @@ export function reportPage(data, root) {
     const minCell = el('td', { class: 'num' });
     if (s.min_distance !== null) {
       minCell.append(el('button', {
-        class: 'link', text: fmt(s.min_distance), title: `state ${s.min_distance_state}: ${(s.min_distance_parts || []).join(' / ')}`,
+        class: 'link min', text: fmt(s.min_distance), title: `state ${s.min_distance_state}: ${(s.min_distance_parts || []).join(' / ')}`,
         onclick: (e) => { e.stopPropagation(); selectPlan(i); setState(s.min_distance_state); },
       }));
     } else minCell.textContent = '-';
-    const tr = el('tr', { class: 'plan', 'data-plan': s.name, onclick: () => selectPlan(i) },
-      el('td', { class: 'name', text: s.name }),
+    const nameCell = el('td', { class: 'name', text: s.name, title: p.detail ? 'every state in detail' : 'motion, verdicts and distances (no per-state detail)' });
+    if (p.detail) nameCell.classList.add('detail');
+    const tr = el('tr', { class: 'plan', 'data-index': String(i), onclick: () => selectPlan(i) },
+      nameCell,
       el('td', {}, el('span', { class: 'verdict', style: `background:${VERDICT_COLORS[s.verdict]}`, text: s.verdict })),
       el('td', { class: 'num', text: String(s.states) }), minCell, fvCell);
-    table.append(tr);
+    tr.dataset.plan = s.name;
     return tr;
   });
-  aside.append(table);
-  const counts = {};
-  for (const p of report.plans) counts[p.verdict] = (counts[p.verdict] || 0) + 1;
-  aside.append(el('p', { class: 'hint', text: Object.entries(counts).map(([k, v]) => `${v} ${k}`).join(', ') +
-    `. ${report.left_out ? report.left_out.static_triangles + ' static triangles left out (' + report.left_out.reason + ').' : ''}` }));
+  function applySort() {
+    const order = [...plans].sort((a, b) => sort.dir * SORTS[sort.key](a, b));
+    for (const th of head.children) th.classList.toggle('sorted', th.dataset.sort === sort.key);
+    tbody.replaceChildren(...order.map((p) => rows[p.index]));
+  }
+  function applyFilter() {
+    const v = verdictFilter.value, q = nameFilter.value.toLowerCase();
+    let n = 0;
+    plans.forEach((p, i) => {
+      const s = p.summary;
+      const ok = (!v || (v === 'violating' ? s.verdict !== 'safe' : s.verdict === v)) && (!q || s.name.toLowerCase().includes(q));
+      rows[i].style.display = ok ? '' : 'none';
+      if (ok) ++n;
+    });
+    shown.textContent = `${n} of ${plans.length} shown`;
+  }
+  applySort();
+  applyFilter();
+  aside.append(el('div', { class: 'plantable' }, table));
+  const nDetail = plans.filter((p) => p.detail).length;
+  const rule = data.detail_rule;
+  aside.append(el('p', { class: 'hint', id: 'detailhint', text: `${nDetail} of ${plans.length} plans carry every state in detail ` +
+    `(closest points, contacts${data.probes.length ? ', probes' : ''}${data.terrain && data.scoop ? ', terrain dug' : ''}; names underlined): the violating plans and ` +
+    (rule.names.length ? `those named by --html-plans` : `the ${rule.closest} closest to the margin (--html-plans)`) +
+    '. Every plan replays its motion, verdicts and distances.' +
+    (report.left_out ? ` ${report.left_out.static_triangles} static triangles left out (${report.left_out.reason}).` : '') }));
 
   // Part tree.
   aside.append(el('h2', { text: 'Parts' }));
@@ -180,11 +276,14 @@ export function reportPage(data, root) {
   let chart = null;
   const current = () => plans[state.plan];
 
+  let selectedRow = null;
   function selectPlan(i) {
     if (i === state.plan) return;
     setPlaying(false);
     state.plan = i;
-    rows.forEach((r, k) => r.classList.toggle('selected', k === i));
+    selectedRow?.classList.remove('selected');
+    selectedRow = rows[i];
+    selectedRow.classList.add('selected');
     const p = current();
     slider.max = String(p.summary.states - 1);
     targetMark.visible = !!p.target;
@@ -198,20 +297,23 @@ export function reportPage(data, root) {
   function buildChart() {
     chart?.destroy();
     const p = current();
+    const d = decoded(p);
     const n = p.summary.states;
     const xs = Array.from({ length: n }, (_, k) => k);
-    const viol = p.verdict.map((v, k) => (v !== 0 ? (p.distance[k] ?? 0) : null));
+    const distance = xs.map((k) => dist(d, k));
+    const viol = xs.map((k) => (d.verdict[k] !== 0 ? (distance[k] ?? 0) : null));
     const series = [{ label: 'state' },
       { label: `min distance (${unit})`, stroke: '#8ab4f8', width: 1.5, points: { show: false } },
       { label: 'margin', stroke: '#ffa000', dash: [6, 4], width: 1, points: { show: false } },
       { label: 'violation', stroke: '#e53935', width: 0, paths: () => null, points: { show: true, size: 6, fill: '#e53935' } }];
-    const cols = [xs, p.distance, xs.map(() => margin), viol];
-    if (p.segment_lower_bound) {
+    const cols = [xs, distance, xs.map(() => margin), viol];
+    if (d.segLower) {
+      const lower = Array.from(d.segLower, (v) => (Number.isNaN(v) ? null : v));
       series.push({ label: 'segment lower bound', stroke: '#80cbc4', width: 1, paths: uPlot.paths.stepped({ align: 1 }), points: { show: false } });
-      cols.push(p.segment_lower_bound);
+      cols.push(lower);
       // Segments that violate, drawn at their lower bound (the segment starts at the state).
       series.push({ label: 'segment violation', stroke: '#ff6e40', width: 0, paths: () => null, points: { show: true, size: 7, fill: '#ff6e40' } });
-      cols.push(p.segment_lower_bound.map((v, k) => (p.segment_violation[k] ? (v ?? 0) : null)));
+      cols.push(lower.map((v, k) => (d.segBad[k] ? (v ?? 0) : null)));
     }
     const width = Math.max(300, chartBox.clientWidth || bottom.clientWidth - 20);
     chart = new uPlot({
@@ -242,12 +344,20 @@ export function reportPage(data, root) {
   }
 
   const tmp = new THREE.Matrix4();
-  function partMatrix(p, s, chains, out) {
+  function partMatrix(p, chains, out) {
     if (p.chain < 0) return out.identity();
-    const o = (s * data.chains + p.chain) * 12;
+    const o = p.chain * 12;
     const c = chains;
     return out.set(c[o], c[o + 1], c[o + 2], c[o + 3], c[o + 4], c[o + 5], c[o + 6], c[o + 7],
       c[o + 8], c[o + 9], c[o + 10], c[o + 11], 0, 0, 0, 1);
+  }
+
+  // The state's closest pair: from the detail, else where report.json names it.
+  function statePair(d, s) {
+    if (d.pair) return [d.pair[s * 2], d.pair[s * 2 + 1]];
+    const k = d.known.get(s);
+    if (!k) return [-1, -1];
+    return [partIndex.get(k.parts[0]) ?? -1, partIndex.get(k.parts[1]) ?? -1];
   }
 
   function setState(s) {
@@ -258,20 +368,22 @@ export function reportPage(data, root) {
     state.s = s;
     slider.value = String(s);
     const d = decoded(p);
+    const chains = posed(d, s);
     for (const part of parts) {
-      partMatrix(part, s, d.chains, part.mesh.matrix);
+      partMatrix(part, chains, part.mesh.matrix);
       part.mesh.matrixWorldNeedsUpdate = true;
       part.mesh.material.color.copy(part.base);
       part.status = 'ok';
     }
     // Below the margin: the state's closest pair (amber); colliding (red).
-    const [a, b] = p.pair[s];
-    const dist = p.distance[s];
-    if (a >= 0 && dist !== null && dist < margin) {
+    const [a, b] = statePair(d, s);
+    const ds = dist(d, s);
+    const v = VERDICT_BY_CODE[d.verdict[s]];
+    if (a >= 0 && ((ds !== null && ds < margin) || v === 'collision' || v === 'clearance')) {
       for (const k of [a, b]) if (parts[k]) { parts[k].mesh.material.color.copy(COLOR_CLOSE); parts[k].status = 'close'; }
     }
     highlight.clear();
-    const contacts = p.contacts[String(s)] || [];
+    const contacts = (p.contacts && p.contacts[String(s)]) || [];
     for (const c of contacts) {
       c.parts.forEach((k, side) => {
         if (!parts[k]) return;
@@ -287,8 +399,10 @@ export function reportPage(data, root) {
         highlight.add(m, edges);
       });
     }
+    // Without detail, a colliding state's pair is red (no triangles carried).
+    if (!d.pair && v === 'collision') for (const k of [a, b]) if (parts[k]) { parts[k].mesh.material.color.copy(COLOR_COLLIDING); parts[k].status = 'collision'; }
     // Closest points.
-    const showSeg = a >= 0 && dist !== null;
+    const showSeg = !!d.points && a >= 0 && ds !== null;
     segment.visible = dots[0].visible = dots[1].visible = showSeg;
     if (showSeg) {
       const pos = segGeom.attributes.position;
@@ -299,21 +413,23 @@ export function reportPage(data, root) {
       dots[1].position.set(d.points[s * 6 + 3], d.points[s * 6 + 4], d.points[s * 6 + 5]);
     }
     distLabel.style.display = showSeg ? '' : 'none';
-    distLabel.textContent = showSeg ? `${fmt(dist)} ${unit}` : '';
-    if (d.scoop) {
+    distLabel.textContent = showSeg ? `${fmt(ds)} ${unit}` : '';
+    // The scoop's bottom point, posed with its part.
+    if (data.scoop && parts[data.scoop.part]) {
       scoopDot.visible = true;
-      scoopDot.position.set(d.scoop[s * 3], d.scoop[s * 3 + 1], d.scoop[s * 3 + 2]);
+      scoopDot.position.set(...data.scoop.bottom_point).applyMatrix4(parts[data.scoop.part].mesh.matrix);
     }
     // Probes: each ray from its posed origin, as long as the reading.
+    const np = data.probes.length;
     data.probes.forEach((pr, k) => {
       const part = parts[pr.part];
       const m = part ? part.mesh.matrix : tmp.identity();
-      const reading = p.probes ? p.probes[s][k] : [pr.max_range, -1];
+      const reading = d.probeDistance ? [d.probeDistance[s * np + k], d.probeHit[s * np + k]] : [pr.max_range, -1];
       const o = new THREE.Vector3(...pr.origin).applyMatrix4(m);
       const pts = [];
       for (const dir of pr.directions) {
-        const v = new THREE.Vector3(...dir).transformDirection(m).multiplyScalar(reading[0]);
-        pts.push(o.x, o.y, o.z, o.x + v.x, o.y + v.y, o.z + v.z);
+        const w = new THREE.Vector3(...dir).transformDirection(m).multiplyScalar(reading[0]);
+        pts.push(o.x, o.y, o.z, o.x + w.x, o.y + w.y, o.z + w.z);
       }
       probeLines[k].geometry.setAttribute('position', new THREE.Float32BufferAttribute(pts, 3));
       probeLines[k].material.color.set(reading[1] >= 0 ? 0xff4081 : 0xb388ff);
@@ -340,23 +456,30 @@ export function reportPage(data, root) {
 
   function updateInfo() {
     const p = current(), s = state.s;
-    const v = VERDICT_BY_CODE[p.verdict[s]];
-    const [a, b] = p.pair[s];
-    const names = data.checked_part_names;
-    info.innerHTML = '';
+    const d = decoded(p);
+    const v = VERDICT_BY_CODE[d.verdict[s]];
+    const [a, b] = statePair(d, s);
+    const ds = dist(d, s);
+    info.replaceChildren();
     stateLabel.textContent = `state ${s} / ${p.summary.states - 1}` + (p.times ? ` · t = ${fmt(p.times[s])} s` : '');
     const parts1 = [el('b', { text: `${p.name} state ${s}` }), ' ',
       el('span', { class: 'verdict', style: `background:${VERDICT_COLORS[v]}`, text: v, id: 'stateverdict' }), ' '];
-    if (a >= 0) parts1.push(`min distance ${fmt(p.distance[s])} ${unit} (${names[a]} / ${names[b]}) `);
-    const contacts = p.contacts[String(s)];
+    if (ds !== null) parts1.push(`min distance ${fmt(ds)} ${unit}` + (a >= 0 ? ` (${names[a]} / ${names[b]}) ` : ' '));
+    const contacts = p.contacts && p.contacts[String(s)];
     if (contacts) parts1.push(`· colliding: ${contacts.map((c) => c.parts.map((k) => names[k]).join(' / ')).join(', ')} `);
-    if (p.limit[s] !== null) parts1.push(`· outside limits: ${p.limit[s]} `);
-    if (p.segment_lower_bound && s < p.segment_lower_bound.length && p.segment_lower_bound[s] !== null)
-      parts1.push(`· segment to ${s + 1}: ≥ ${fmt(p.segment_lower_bound[s])} ${unit}${p.segment_violation[s] ? ' (violation)' : ''} `);
-    if (p.probes) parts1.push('· probes: ' + data.probes.map((pr, k) => `${pr.name} ${fmt(p.probes[s][k][0])}` +
-      (p.probes[s][k][1] >= 0 ? ` (${p.probe_targets[p.probes[s][k][1]]})` : '')).join(', '));
+    else if (!p.detail && v === 'collision' && a >= 0) parts1.push(`· colliding: ${names[a]} / ${names[b]} `);
+    const lim = p.limit && p.limit[String(s)];
+    if (lim) parts1.push(`· outside limits: ${lim} `);
+    else if (!p.detail && p.summary.first_violation?.state === s && p.summary.first_violation.action) parts1.push(`· outside limits: ${p.summary.first_violation.action} `);
+    if (d.segLower && s < d.segLower.length && !Number.isNaN(d.segLower[s]))
+      parts1.push(`· segment to ${s + 1}: ≥ ${fmt(d.segLower[s])} ${unit}${d.segBad[s] ? ' (violation)' : ''} `);
+    const np = data.probes.length;
+    if (d.probeDistance) parts1.push('· probes: ' + data.probes.map((pr, k) => `${pr.name} ${fmt(d.probeDistance[s * np + k])}` +
+      (d.probeHit[s * np + k] >= 0 ? ` (${p.probe_targets[d.probeHit[s * np + k]]})` : '')).join(', '));
+    if (!p.detail) parts1.push(el('span', { class: 'hint', text: ' · motion, verdicts and distances only (no closest points, contacts or probes carried for this plan: --html-plans)' }));
+    if (!(d.poseDeviation <= 1e-5 * extent)) parts1.push(el('b', { class: 'warning', text: ` · the page's poses differ from the checker's by ${fmt(d.poseDeviation)}` }));
     info.append(el('div', {}, ...parts1));
-    info.append(el('div', { class: 'params', text: data.parameter_names.map((nm, k) => `${nm} ${fmt(p.params[s][k], 6)}`).join('  ') }));
+    info.append(el('div', { class: 'params', text: data.parameter_names.map((nm, k) => `${nm} ${fmt(d.params[s * nparams + k], 6)}`).join('  ') }));
   }
 
   // Playing: `speed` states per second, looping or stopping at the end.
@@ -402,7 +525,8 @@ export function reportPage(data, root) {
   const focus = new THREE.Box3();
   for (const p of parts) focus.union(p.mesh.geometry.boundingBox);
   view.frame(focus.isEmpty() ? box : focus);
-  if (plans.length) selectPlan(0);
+  // Opens on the first plan of the table (violations first).
+  if (plans.length) selectPlan(Number(tbody.firstChild.dataset.index));
 
   // For tests and scripted screenshots.
   return {
@@ -410,6 +534,13 @@ export function reportPage(data, root) {
     selectPlan, setState, setPlaying,
     state: () => ({ plan: state.plan, planName: plans[state.plan]?.name, state: state.s, playing: state.playing }),
     partMatrix: (name) => parts.find((p) => p.name === name)?.mesh.matrix.elements.slice(),
+    selectPlanByName: (name) => selectPlan(plans.findIndex((p) => p.name === name)),
+    tableOrder: () => [...tbody.children].filter((r) => r.style.display !== 'none').map((r) => plans[Number(r.dataset.index)].name),
+    overview: () => overviewBox.summary,
+    // Every plan decoded: the largest difference between the page's poses and
+    // the checker's transforms the page carries, over how many states.
+    poseCheck: () => { for (const p of plans) decoded(p); return { worst: poseWorst, states: poseStates, tolerance: 1e-5 * extent }; },
+    detailPlans: () => plans.filter((p) => p.detail).map((p) => p.name),
     partStatus: (name) => parts.find((p) => p.name === name)?.status,
     partColor: (name) => parts.find((p) => p.name === name)?.mesh.material.color.getHexString(),
     highlightTriangles: () => highlight.children.filter((m) => m.isMesh).reduce((n, m) => n + m.geometry.attributes.position.count / 3, 0),
@@ -437,6 +568,20 @@ export function reportPage(data, root) {
       return n;
     },
   };
+}
+
+// A plan's dug rectangles (report_html.cpp DigTrack): heights as int8 steps
+// from the undisturbed terrain (-128: no data).
+function digRects(j) {
+  const r = ints(j.rects), step = f32(j.step), dz = i8(j.dz);
+  const out = [];
+  for (let k = 0, at = 0; k < step.length; ++k) {
+    const [state, c0, r0, c1, r1] = r.subarray(k * 5, k * 5 + 5);
+    const n = (c1 - c0 + 1) * (r1 - r0 + 1);
+    out.push({ state, c0, r0, c1, r1, step: step[k], dz: dz.subarray(at, at + n) });
+    at += n;
+  }
+  return out;
 }
 
 // The listed triangles of a part, posed like it (drawn over it).
@@ -513,7 +658,11 @@ function makeTerrain(t, scene) {
   let start = null, applied = -1;  // the dig steps applied: those with state <= applied
   function apply(rect) {
     const w = rect.c1 - rect.c0 + 1;
-    for (let r = rect.r0; r <= rect.r1; ++r) z.set(rect.z.subarray((r - rect.r0) * w, (r - rect.r0 + 1) * w), r * ncols + rect.c0);
+    for (let r = rect.r0; r <= rect.r1; ++r)
+      for (let c = rect.c0; c <= rect.c1; ++c) {
+        const q = rect.dz[(r - rect.r0) * w + c - rect.c0], i = r * ncols + c;
+        z[i] = q === -128 ? NaN : base[i] + q * rect.step;
+      }
   }
   return {
     mesh,

@@ -37,6 +37,18 @@ a, button.link { color: #8ab4f8; cursor: pointer; background: none; border: none
 .chart .u-legend { font-size: 12px; }
 .chart .u-legend th { color: inherit; }
 .hint { color: #7f8a99; font-size: 12px; }
+.counts { margin: 2px 0 6px; }
+.chip { border: none; border-radius: 8px; color: #fff; font-weight: 600; font-size: 12px; padding: 1px 8px; cursor: pointer; margin: 1px 0; }
+#histogram { display: block; margin: 4px 0; }
+ul.fault { margin: 2px 0 4px; padding-left: 18px; color: #c9d1dc; }
+.filters { margin: 4px 0; }
+.filters input, .filters select { background: #2a3240; color: #e8eaed; border: 1px solid #3a4352; }
+.plantable { max-height: 45vh; overflow: auto; }
+.plantable thead th { position: sticky; top: 0; background: #111418; }
+th.sortable { cursor: pointer; text-decoration: underline dotted; }
+th.sorted { color: #e8eaed; }
+td.name.detail { text-decoration: underline; }
+.warning { color: #ff5252; }
 .heat { display: flex; gap: 12px; flex-wrap: wrap; align-items: flex-start; }
 .heat canvas { image-rendering: pixelated; border: 1px solid #2c333e; cursor: crosshair; }
 .sliders label { display: block; margin: 4px 0; }

@@ -3,7 +3,7 @@
 // others set by sliders), the arm at the configuration under the pointer,
 // the targets of the safe configurations over the terrain seen from above.
 import * as THREE from 'three';
-import { View3D, f32, el, fmt, VERDICT_COLORS } from './common.js';
+import { View3D, f32, partIndices, el, fmt, VERDICT_COLORS } from './common.js';
 
 const CODES = ['safe', 'clearance', 'collision', 'limits'];
 const CODE_RGB = [[46, 125, 50], [239, 143, 0], [198, 40, 40], [106, 27, 154]];
@@ -11,14 +11,20 @@ const CODE_RGB = [[46, 125, 50], [239, 143, 0], [198, 40, 40], [106, 27, 154]];
 export function sweepPage(data, root) {
   const sweep = data.sweep;
   const unit = data.length_unit;
-  const axes = data.axes.map((a, k) => ({ ...a, values: sweep.axes[k].values }));
+  // The page's cells: every configuration, or when the grid is finer than
+  // the page holds, blocks of `stride` values per axis (sweep_html.h).
+  const axes = data.axes;
+  const pooled = axes.some((a) => a.stride > 1);
+  // Configuration numbers in the full grid (the first of a cell's block).
+  const fullStrides = axes.map(() => 1);
+  for (let k = axes.length - 2; k >= 0; --k) fullStrides[k] = fullStrides[k + 1] * axes[k + 1].values_total;
   const verdicts = (() => { const s = atob(data.verdicts); const v = new Uint8Array(s.length); for (let i = 0; i < s.length; ++i) v[i] = s.charCodeAt(i); return v; })();
   // Strides of the grid (C order, the last axis fastest).
   const strides = axes.map(() => 1);
   for (let k = axes.length - 2; k >= 0; --k) strides[k] = strides[k + 1] * axes[k + 1].count;
 
   const header = el('header', {}, el('h1', { text: 'plancheck sweep' }),
-    el('span', { class: 'meta', text: `${sweep.scene} · ${sweep.configurations.toLocaleString()} configurations over ${axes.map((a) => `${a.name} (${a.count})`).join(', ')}` }));
+    el('span', { class: 'meta', text: `${sweep.scene} · ${sweep.configurations.toLocaleString()} configurations over ${axes.map((a) => `${a.name} (${a.values_total})`).join(', ')}` }));
   const aside = el('aside');
   const main = el('main');
   const bottom = el('div', { id: 'bottom' });
@@ -32,10 +38,16 @@ export function sweepPage(data, root) {
   const sliceCells = CODES.map((name, c) => {
     const cell = el('td', { class: 'num slice' });
     countTable.append(el('tr', { 'data-verdict': name }, el('td', {}, el('span', { class: 'verdict', style: `background:${VERDICT_COLORS[name]}`, text: name })),
-      el('td', { class: 'num all', text: String(counts[c]) }), cell));
+      el('td', { class: 'num all', text: String(sweep.counts[name]) }), cell));
     return cell;
   });
   aside.append(countTable);
+  if (pooled) {
+    aside.append(el('p', { class: 'hint', id: 'pooled', text: `The grid is finer than the page holds: each cell shows the most severe verdict ` +
+      `(collision, limits, clearance, safe) of the ${axes.map((a) => a.stride).join(' × ')} configurations it covers ` +
+      `(${axes.filter((a) => a.stride > 1).map((a) => `${a.name} in blocks of ${a.stride} values`).join(', ')}; the arm is posed at the first value of a block). ` +
+      `"all" counts every configuration (sweep.json); "this slice" counts cells. verdict.npy holds every configuration.` }));
+  }
   if (sweep.min_distance) aside.append(el('p', { class: 'hint', text: `closest without contact: ${fmt(sweep.min_distance.distance)} ${unit} (${sweep.min_distance.parts.join(' / ')})` }));
 
   // Axis choice and sliders for the others.
@@ -92,15 +104,26 @@ export function sweepPage(data, root) {
     const slice = [0, 0, 0, 0];
     const w = heat.width, h = heat.height;
     ctx.clearRect(0, 0, w, h);
+    // One pixel per cell, then scaled onto the canvas: millions of cells in
+    // one image, not one rectangle each.
+    const img = new ImageData(nx, ny);
     for (let iy = 0; iy < ny; ++iy)
       for (let ix = 0; ix < nx; ++ix) {
         const v = verdicts[index(ix, state.x === state.y ? ix : iy)];
         ++slice[v];
-        const [r, g, b] = CODE_RGB[v];
-        ctx.fillStyle = `rgb(${r},${g},${b})`;
         // Vertical axis up: iy = 0 at the bottom.
-        ctx.fillRect(Math.floor((ix * w) / nx), Math.floor(((ny - 1 - iy) * h) / ny), Math.ceil(w / nx), Math.ceil(h / ny));
+        const o = ((ny - 1 - iy) * nx + ix) * 4;
+        img.data[o] = CODE_RGB[v][0];
+        img.data[o + 1] = CODE_RGB[v][1];
+        img.data[o + 2] = CODE_RGB[v][2];
+        img.data[o + 3] = 255;
       }
+    const cellsCanvas = document.createElement('canvas');
+    cellsCanvas.width = nx;
+    cellsCanvas.height = ny;
+    cellsCanvas.getContext('2d').putImageData(img, 0, 0);
+    ctx.imageSmoothingEnabled = false;
+    ctx.drawImage(cellsCanvas, 0, 0, w, h);
     if (state.hover) {
       ctx.strokeStyle = '#fff';
       ctx.lineWidth = 2;
@@ -129,7 +152,7 @@ export function sweepPage(data, root) {
   const parts = data.parts.map((p) => {
     const g = new THREE.BufferGeometry();
     g.setAttribute('position', new THREE.BufferAttribute(f32(p.positions), 3));
-    g.setIndex(new THREE.BufferAttribute(new Uint32Array(Uint8Array.from(atob(p.indices), (c) => c.charCodeAt(0)).buffer), 1));
+    g.setIndex(new THREE.BufferAttribute(partIndices(p), 1));
     g.computeBoundingBox();
     g.computeBoundingSphere();
     box.union(g.boundingBox);
@@ -180,7 +203,8 @@ export function sweepPage(data, root) {
         drawTop(q);
       }
     }
-    hoverInfo.textContent = `configuration ${i}: ${axes.map((a, k) => `${a.name} ${fmt(a.values[digits[k]], 6)}`).join(', ')} → ${v}`;
+    const config = digits.reduce((n, d, k) => n + d * axes[k].stride * fullStrides[k], 0);
+    hoverInfo.textContent = `${pooled ? 'cell from ' : ''}configuration ${config}: ${axes.map((a, k) => `${a.name} ${fmt(a.values[digits[k]], 6)}`).join(', ')} → ${v}`;
     drawHeat();
     view.render();
     return { index: i, verdict: v };
@@ -217,6 +241,28 @@ export function sweepPage(data, root) {
   const span = Math.max(tb.max.x - tb.min.x, tb.max.y - tb.min.y, 1e-6) * 1.08;
   const cx = (tb.min.x + tb.max.x) / 2, cy = (tb.min.y + tb.max.y) / 2;
   const toTop = (x, y) => [((x - cx) / span + 0.5) * top.width, (0.5 - (y - cy) / span) * top.height];
+  // The targets drawn once into their own layer (up to 500,000 points; a
+  // pointer move redraws only the marker over it).
+  let targetLayer = null;
+  function targetsImage() {
+    if (targetLayer) return targetLayer;
+    targetLayer = document.createElement('canvas');
+    targetLayer.width = top.width;
+    targetLayer.height = top.height;
+    const lctx = targetLayer.getContext('2d');
+    const img = lctx.createImageData(top.width, top.height);
+    for (let i = 0; i < targets.length; i += 3) {
+      const [x, y] = toTop(targets[i], targets[i + 1]);
+      for (const [px, py] of [[x - 1, y - 1], [x, y - 1], [x - 1, y], [x, y]]) {
+        const ix = Math.floor(px), iy = Math.floor(py);
+        if (ix < 0 || iy < 0 || ix >= top.width || iy >= top.height) continue;
+        const o = (iy * top.width + ix) * 4;
+        img.data[o] = 0; img.data[o + 1] = 230; img.data[o + 2] = 118; img.data[o + 3] = 140;
+      }
+    }
+    lctx.putImageData(img, 0, 0);
+    return targetLayer;
+  }
   function drawTop(mark) {
     const ctx = top.getContext('2d');
     ctx.fillStyle = '#1b1f27';
@@ -226,11 +272,7 @@ export function sweepPage(data, root) {
       const [x1, y0] = toTop(t.x0 + (t.ncols - 0.5) * t.cellsize, t.y0 + (t.nrows - 0.5) * t.cellsize);
       ctx.drawImage(terrainImg, x0, y0, x1 - x0, y1 - y0);
     }
-    ctx.fillStyle = 'rgba(0, 230, 118, 0.55)';
-    for (let i = 0; i < targets.length; i += 3) {
-      const [x, y] = toTop(targets[i], targets[i + 1]);
-      ctx.fillRect(x - 1, y - 1, 2, 2);
-    }
+    ctx.drawImage(targetsImage(), 0, 0);
     if (mark) {
       const [x, y] = toTop(mark.x, mark.y);
       ctx.strokeStyle = '#ff40ff';

@@ -33,7 +33,12 @@ export async function openPage(file, { browserPath = '/usr/bin/chromium', width 
   // One frame drawn after the data is in.
   await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
   const loadSeconds = (Date.now() - t0) / 1000;
-  return { browser, page, errors, network, loadSeconds };
+  // Where the time went (ms from navigation start): HTML parsed, data parsed, page built.
+  const phases = await page.evaluate(() => {
+    const at = (name) => Math.round(performance.getEntriesByName(name)[0]?.startTime ?? -1);
+    return { html: Math.round(performance.getEntriesByType('navigation')[0].domInteractive), data: at('plancheck-data'), built: at('plancheck-built') };
+  });
+  return { browser, page, errors, network, loadSeconds, phases };
 }
 
 export function checkClean({ errors, network }) {
