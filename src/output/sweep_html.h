@@ -39,7 +39,8 @@ SweepPageGrid pool_sweep_verdicts(const std::vector<SweepAxis>& axes, const std:
 class SafeTargetSample {
  public:
   static constexpr std::size_t kLimit = 500'000;
-  explicit SafeTargetSample(std::size_t limit = kLimit) : limit_(limit) {}
+  SafeTargetSample() : SafeTargetSample(kLimit) {}
+  explicit SafeTargetSample(std::size_t limit) : limit_(limit) {}
   void push(const Vec3& target) {
     push_with([&] { return target; });
   }

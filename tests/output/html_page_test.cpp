@@ -261,8 +261,9 @@ TEST(ReportPage, DataMatchesTheResultsItWasWrittenFrom) {
     const auto states = cp["states"].get<std::vector<std::size_t>>();
     ASSERT_FALSE(states.empty());
     EXPECT_NE(std::find(states.begin(), states.end(), results[k].min_distance_state), states.end());
-    if (results[k].first_violation)
+    if (results[k].first_violation) {
       EXPECT_NE(std::find(states.begin(), states.end(), results[k].first_violation->state), states.end());
+    }
     const auto chains = decode_array<float>(cp["transforms"]);
     ASSERT_EQ(chains.size(), states.size() * scene.chains.size() * 12);
     for (std::size_t j = 0; j < states.size(); ++j)

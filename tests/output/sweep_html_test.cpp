@@ -75,7 +75,9 @@ TEST(SweepPage, SamplesSafeTargetsWithBoundedMemory) {
     ASSERT_EQ(sample.kept().size(), pushed == 0 ? 0 : (pushed - 1) / sample.stride() + 1) << pushed;
     for (std::size_t k = 0; k < sample.kept().size(); ++k)
       EXPECT_EQ(sample.kept()[k].x(), static_cast<double>(k * sample.stride()));
-    if (pushed >= 20) EXPECT_GE(sample.kept().size(), 10u);
+    if (pushed >= 20) {
+      EXPECT_GE(sample.kept().size(), 10u);
+    }
   }
 }
 
