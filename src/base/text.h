@@ -93,4 +93,22 @@ inline std::string printable(std::string_view s) {
   return out;
 }
 
+// `s` as text inside XML or HTML markup (element text or a quoted attribute):
+// & < > " ' as entities, everything else as it is.
+inline std::string markup_escape(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 }  // namespace plancheck

@@ -2,6 +2,7 @@
 #include "src/output/html_page.h"
 
 #include "src/base/error.h"
+#include "src/base/text.h"
 
 
 
@@ -32,19 +33,6 @@ void append_script_text(std::string& out, std::string_view text) {
   out.append(text.substr(from));
 }
 
-std::string html_escape(std::string_view s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -84,7 +72,7 @@ HtmlPageWriter::HtmlPageWriter(const std::filesystem::path& file, std::string_vi
   write("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
   write("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n");
   write("<title>");
-  write(html_escape(title));
+  write(markup_escape(title));
   write("</title>\n</head>\n<body>\n");
   write(kDataOpen);
 }

@@ -23,21 +23,6 @@ namespace {
 std::string pr(const std::string& s) { return printable(s); }
 std::string pr(const std::filesystem::path& p) { return printable(p.string()); }
 
-// An attribute value as XML writes it, for the paste-ready SRDF lines.
-std::string xml_attribute(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 const char* type_name(const Action& a) {
   switch (a.type) {
@@ -84,7 +69,7 @@ void print_robot(const Scene& scene, const std::vector<ReferenceContact>& contac
   std::vector<std::string> lines;
   for (const ReferenceContact& c : contacts) {
     if (c.allowed || !links.count(c.a) || !links.count(c.b)) continue;
-    lines.push_back("  <disable_collisions link1=\"" + pr(xml_attribute(c.a)) + "\" link2=\"" + pr(xml_attribute(c.b)) +
+    lines.push_back("  <disable_collisions link1=\"" + pr(markup_escape(c.a)) + "\" link2=\"" + pr(markup_escape(c.b)) +
                     "\" reason=\"" +
                     (adjacent.count({c.a, c.b}) ? "Adjacent" : "Default") + "\"/>");
   }
