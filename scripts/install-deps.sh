@@ -12,6 +12,9 @@ packages=(
   python3-dev pybind11-dev python3-numpy
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libcgal-dev
+  # OMPL for <plancheck/ompl.h>'s example and bench; Debian's omplConfig.cmake
+  # names libboost_filesystem.so, which libompl-dev does not pull in.
+  libompl-dev libboost-filesystem-dev
   assimp-testmodels dart-doc
   clang libclang-rt-14-dev
   chromium
