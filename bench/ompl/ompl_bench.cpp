@@ -161,20 +161,21 @@ int rejected(const Arm& a, const std::vector<std::vector<std::vector<double>>>& 
 }
 
 void segment_table(const Arm& a, std::size_t want) {
-  // Segments of planned (unsimplified) paths: RRTConnect's own edges.
+  // Segments of planned (unsimplified) paths: RRTConnect's own edges, from
+  // the discrete validator's planner (the faster one to collect them with).
   std::vector<std::pair<std::vector<double>, std::vector<double>>> segs;
   for (std::size_t q = 0; segs.size() < want; q = (q + 1) % a.queries.size()) {
-    const Solved s = solve(a, a.si, q, false);
+    const Solved s = solve(a, a.discrete_si, q, false);
     for (std::size_t i = 0; i + 1 < s.path.size(); ++i) segs.emplace_back(s.path[i], s.path[i + 1]);
   }
-  // Add as many segments again between random valid states near each
-  // other, so that both validators see unsafe segments too.
+  // 200 more between random valid states near each other, so that both
+  // validators see unsafe segments too.
   const std::size_t planned = segs.size();
   {
     const ob::StateSamplerPtr sampler = a.si->allocStateSampler();
     ob::ScopedState<> s(a.si), g(a.si);
     const std::size_t n = a.checker->parameter_count();
-    while (segs.size() < 2 * planned) {
+    while (segs.size() < planned + 200) {
       sampler->sampleUniform(s.get());
       sampler->sampleUniformNear(g.get(), s.get(), 0.25 * a.si->getMaximumExtent());
       a.si->enforceBounds(g.get());

@@ -203,9 +203,10 @@ SegmentResult SegmentChecker::run(const std::vector<double>& qa, const std::vect
         }
         return std::nullopt;
       }
-      // The midpoint exact up to where it would certify both halves with
-      // ends that are no witness: then its bound decides them.
-      Sample& mid = sample_at(tm, std::max(target, limit) + m);
+      // The midpoint exact up to where it would certify either half (motion
+      // bound about m / 2) beside an end that is no witness: beyond it, its
+      // bound decides them; a half whose bound is larger makes it exact.
+      Sample& mid = sample_at(tm, std::max(target, limit) + 0.5 * m);
       if (is_witness(mid)) return mid;
       stack.emplace_back(tm, tb);
       stack.emplace_back(ta, tm);

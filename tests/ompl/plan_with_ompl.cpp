@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
     scene.erase("scoop");
     const fs::path nodig = data / ("scene-nodig-ompl-" + std::to_string(::getpid()) + ".json");
     write_text(nodig, scene.dump(2));
-    plan_and_verify("default-arm", nodig, plancheck, out, 4);
+    plan_and_verify("default-arm", nodig, plancheck, out, 2);
     fs::remove(nodig);
 
     // The URDF example's survey arm on the same lander.
