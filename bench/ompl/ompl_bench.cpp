@@ -234,6 +234,7 @@ void segment_table(const Arm& a, std::size_t want) {
     std::printf("%-26s %8zu %14.1f %14.1f %8.2f\n", label.c_str(), e - b, 1e6 * c / k, 1e6 * d / k, c / d);
   };
   row("planned paths", 0, planned);
+  std::fflush(stdout);
   row("random near pairs", planned, segs.size());
   // By length (the discrete validator's sample count): sort a copy.
   std::vector<std::size_t> order(planned);
@@ -281,6 +282,7 @@ void planner_table(const Arm& a, int seeds, const std::string& plancheck, const 
   std::printf("%-24s %16.2f %22d of %d\n", "certified (check_motion)", 1e3 * median(tc), bad_c, seeds);
   std::printf("%-24s %16.2f %22d of %d\n", "discrete (OMPL default)", 1e3 * median(td), bad_d, seeds);
   std::printf("ratio certified / discrete: %.2f\n", median(tc) / median(td));
+  std::fflush(stdout);
 }
 
 }  // namespace
