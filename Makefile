@@ -7,7 +7,7 @@ CMAKE_FLAGS ?=
 DATASET := datasets/change5
 GEN     := $(BUILD)/generate_change5
 
-# Sanitizer and fuzz builds (README "Sanitizers and fuzzing"): each its own
+# Sanitizer and fuzz builds (docs/development.md "Sanitizers and fuzzing"): each its own
 # build folder, building only what its tests need (no benchmarks).
 ASAN_BUILD ?= build-asan
 TSAN_BUILD ?= build-tsan
@@ -18,7 +18,7 @@ FUZZ_SECONDS ?= 60
 FUZZ_MODEL_SECONDS ?= 180
 # fuzz_urdf also forks an importer per mesh it resolves: a modest budget.
 FUZZ_URDF_SECONDS ?= 45
-FUZZ_TARGETS ?= scene plan model dem verify urdf
+FUZZ_TARGETS ?= scene plan model dem verify urdf partial
 # -O2 as in Release, line tables only (-g1): readable reports, lighter builds.
 # They embed the Release build's viewer bundle (no second npm ci) and skip the
 # browser tests (the Release run has them); the page writer is still tested.

@@ -2,7 +2,7 @@
 // Plans follow the paper's tasks: from the stowed arm, scoop at a sampling
 // point, lift, move over the storage can on the deck and empty the scoop into
 // it; plan10 takes the can by its bail and carries it over the ascender's
-// receptacle. Four plans are designed to fail in a known way (see README).
+// receptacle. Four plans are designed to fail in a known way (see datasets/README.md).
 #include "datasets/plans.h"
 
 #include <algorithm>

@@ -10,6 +10,7 @@ packages=(
   nlohmann-json3-dev libcli11-dev libgmp-dev libcairo2-dev fonts-dejavu-core
   liburdfdom-dev libtinyxml2-dev
   python3-dev pybind11-dev python3-numpy
+  python3-venv python3-pip python3-setuptools python3-wheel python3-build python3-pybind11 mypy
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libcgal-dev
   # OMPL for <plancheck/ompl.h>'s example and bench; Debian's omplConfig.cmake

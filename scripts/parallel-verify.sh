@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # plancheck verify (or sweep) as N shards on one machine or over ssh with
-# GNU parallel, then merge (README "Beyond one machine"):
+# GNU parallel, then merge (docs/scale-out.md):
 #
 #   scripts/parallel-verify.sh N OUT plancheck verify SCENE.json PLAN.csv... [options]
 #

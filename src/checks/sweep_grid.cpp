@@ -77,10 +77,8 @@ std::vector<SweepAxis> sweep_axes_from_grid(const Scene& scene, const std::strin
     const std::size_t comma = std::min(grid.find(',', start), grid.size());
     const std::string item = trim(grid.substr(start, comma - start));
     start = comma + 1;
-    if (item.empty()) {
-      if (comma == grid.size() && !axes.empty()) break;
+    if (item.empty())  // a trailing comma too: a parameter may have been lost there
       throw InputError("--grid: empty item in '" + grid + "' (expected NAME=FROM:TO:STEP,...)");
-    }
     const std::size_t eq = item.find('=');
     if (eq == std::string::npos) grid_error(item, "expected NAME=FROM:TO:STEP");
     const std::string name = trim(item.substr(0, eq));

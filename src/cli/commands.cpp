@@ -130,6 +130,7 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
   std::vector<Plan> plans;
   plans.reserve(args.plans.size());
   for (const auto& p : args.plans) plans.push_back(load_plan(scene, p));
+  check_plan_csv_names(plans);  // two plans, one DIR/<name>.csv: refused before any checking
   const std::string setup = verify_setup(args);
   // The fingerprint hashes every byte the run reads (some 20 MB on the
   // default scene, one byte at a time): merge compares it now, a run needs

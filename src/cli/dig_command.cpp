@@ -4,6 +4,7 @@
 
 #include "src/checks/dig.h"
 #include "src/base/error.h"
+#include "src/base/text.h"
 #include "src/scene/plan.h"
 #include "src/output/dig_png.h"
 #include "src/base/progress.h"
@@ -47,7 +48,7 @@ int run_dig(const DigArgs& args, std::ostream& out, std::ostream& err) {
   std::snprintf(line, sizeof line,
                 "%s: model %s, deepest %.4g %s at state %zu, dug %.6g %s^3, collected %.6g %s^3 = %.4g kg "
                 "(capacity %.6g%s), spilled %.6g\n",
-                plan.name.c_str(), sum.model.c_str(), sum.deepest / u, scene.length_unit.c_str(), sum.deepest_state,
+                printable(plan.name).c_str(), sum.model.c_str(), sum.deepest / u, scene.length_unit.c_str(), sum.deepest_state,
                 sum.dug_volume / u3, scene.length_unit.c_str(), sum.collected_volume / u3, scene.length_unit.c_str(),
                 sum.collected_mass, scene.scoop->capacity / u3, sum.over_capacity ? ", exceeded" : "",
                 sum.spilled_volume / u3);

@@ -2,6 +2,7 @@
 #include "src/cli/distribute.h"
 
 #include "src/base/error.h"
+#include "src/base/files.h"
 
 #include <nlohmann/json.hpp>
 
@@ -99,18 +100,49 @@ bool read_raw(std::istream& in, T& v) {
   return static_cast<bool>(in.read(reinterpret_cast<char*>(&v), sizeof(T)));
 }
 
+// A line of at most max_bytes (the '\n' dropped); false when none ends in time.
+bool read_line(std::istream& in, std::string& line, std::size_t max_bytes) {
+  line.clear();
+  for (int c; (c = in.get()) != std::char_traits<char>::eof();) {
+    if (c == '\n') return true;
+    if (line.size() >= max_bytes) return false;
+    line.push_back(static_cast<char>(c));
+  }
+  return false;
+}
+
+// A header is the run's setup (its paths and options): far below this.
+constexpr std::size_t kMaxHeaderBytes = std::size_t{16} << 20;
+
 Scan scan_file(const std::filesystem::path& file) {
   Scan s;
-  std::ifstream in(file, std::ios::binary);
-  if (!in) return s;
+  std::error_code ec;
+  const auto status = std::filesystem::symlink_status(file, ec);
+  if (ec || !std::filesystem::exists(status)) return s;
   s.exists = true;
   s.header.file = file;
+  // Only a regular file is a partial result or journal (a link is never
+  // followed: what it points to is not this run's to read or to continue).
+  if (!std::filesystem::is_regular_file(status)) {
+    s.problem = "not a regular file";
+    return s;
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    s.problem = "cannot be read";
+    return s;
+  }
+  const std::uint64_t file_size = std::filesystem::file_size(file, ec);
+  if (ec) {
+    s.problem = "cannot be read";
+    return s;
+  }
   std::string line;
-  if (!std::getline(in, line) || line != kFormat) {
+  if (!read_line(in, line, kFormat.size()) || line != kFormat) {
     s.problem = "not a plancheck partial result (no " + std::string(kFormat) + " line)";
     return s;
   }
-  if (!std::getline(in, line)) {
+  if (!read_line(in, line, kMaxHeaderBytes)) {
     s.problem = "cut short in its header";
     return s;
   }
@@ -168,8 +200,10 @@ Scan scan_file(const std::filesystem::path& file) {
       return s;
     }
     const std::uint64_t offset = static_cast<std::uint64_t>(in.tellg());
-    if (length > (std::uint64_t{1} << 40)) {
-      s.problem = "a record of impossible length (corrupt)";
+    // Nothing is allocated for more than the file holds: a length beyond
+    // its end is a record cut short (or a lie), never a buffer.
+    if (length > file_size - std::min(offset, file_size)) {
+      s.problem = "cut short in a record";
       return s;
     }
     blob.resize(static_cast<std::size_t>(length));
@@ -204,10 +238,7 @@ class RecordWriter {
                std::uint64_t chain, std::size_t records)
       : file_(file), chain_(chain), records_(records) {
     std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
-    fd_ = ::open(file.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
-    if (fd_ < 0) fail(file, std::string("cannot write: ") + std::strerror(errno));
-    if (::ftruncate(fd_, static_cast<off_t>(keep_bytes)) != 0 || ::lseek(fd_, 0, SEEK_END) < 0)
-      fail(file, std::string("cannot write: ") + std::strerror(errno));
+    fd_ = open_for_append(file, keep_bytes);  // files.h: never through a link
     if (keep_bytes == 0) put(std::string(kFormat) + "\n" + header + "\n");
   }
   ~RecordWriter() {
@@ -375,11 +406,24 @@ Shard parse_shard(std::string_view text) {
 // Weight times part count may pass 2^64 on a sweep's grid.
 __extension__ typedef unsigned __int128 Wide;
 
+// Part k starts at the first item whose weight before it reaches k/parts of
+// the total (part 0 at 0; past the last item: W).
+std::size_t part_start(std::span<const std::uint64_t> weights, std::size_t parts, std::size_t k) {
+  if (k == 0) return 0;
+  if (k >= parts) return weights.size();
+  const Wide total = range_weight(weights, 0, weights.size());
+  Wide before = 0;
+  for (std::size_t i = 0; i < weights.size(); ++i) {
+    if (before * parts >= total * k) return i;
+    before += std::max<std::uint64_t>(weights[i], 1);
+  }
+  return weights.size();
+}
+
 std::vector<std::size_t> split_by_weight(std::span<const std::uint64_t> weights, std::size_t parts) {
   std::vector<std::size_t> b(parts + 1, weights.size());
   b[0] = 0;
   const Wide total = range_weight(weights, 0, weights.size());
-  // Part k starts at the first item whose weight before it reaches k/parts of the total.
   Wide before = 0;
   std::size_t k = 1;
   for (std::size_t i = 0; i < weights.size() && k < parts; ++i) {
@@ -405,10 +449,30 @@ void Fingerprint::add(std::string_view bytes) {
 }
 
 void Fingerprint::add_file(const std::filesystem::path& file) {
+  // As add(the file's bytes), a block at a time: a plan of any size costs
+  // one block of memory here.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(file, ec)) fail(file, "cannot read: not a regular file");
+  const std::uint64_t n = std::filesystem::file_size(file, ec);
+  if (ec) fail(file, "cannot read");
+  std::uint64_t a = fnv(a_, &n, 8), b = fnv(b_ ^ 0x5bd1e995ull, &n, 8);
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file, "cannot read");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  add(bytes);
+  std::string block(std::size_t{1} << 20, '\0');
+  std::uint64_t seen = 0;
+  while (in) {
+    in.read(block.data(), static_cast<std::streamsize>(block.size()));
+    const auto got = static_cast<std::size_t>(in.gcount());
+    const auto* p = reinterpret_cast<const unsigned char*>(block.data());
+    for (std::size_t i = 0; i < got; ++i) {
+      a = (a ^ p[i]) * kFnvPrime;
+      b = (b ^ p[i]) * kFnvPrime;
+    }
+    seen += got;
+  }
+  if (seen != n) fail(file, "changed while being read");
+  a_ = a;
+  b_ = b;
 }
 
 std::string Fingerprint::hex() const {
@@ -461,9 +525,9 @@ DistResult run_local(const DistOptions& o, std::span<const std::uint64_t> weight
   const std::size_t items = weights.size();
   std::size_t begin = 0, end = items;
   if (o.shard) {
-    const std::vector<std::size_t> b = split_by_weight(weights, o.shard->count);
-    begin = b[o.shard->index];
-    end = b[o.shard->index + 1];
+    // Two bounds, not N + 1: memory follows the items, not what --shard claims.
+    begin = part_start(weights, o.shard->count, o.shard->index);
+    end = part_start(weights, o.shard->count, o.shard->index + 1);
   }
   const bool writer = !o.shard;
   const std::filesystem::path file = o.shard ? partial_path(o.out, *o.shard) : journal_path(o.out);
@@ -780,18 +844,24 @@ PartialSet open_partials(const std::vector<std::filesystem::path>& dirs) {
       fail(scans[k].header.file, "shard " + std::to_string(scans[k].header.shard.index) + " of " +
                                      std::to_string(h0.shard.count) + " is given twice (also " +
                                      scans[k - 1].header.file.string() + ")");
-  std::string missing;
-  for (std::size_t i = 0, k = 0; i < h0.shard.count; ++i) {
-    if (k < scans.size() && scans[k].header.shard.index == i) {
-      ++k;
-      continue;
+  // The shards missing, the first few named: walked gap by gap over the
+  // files given, so N (as a header claims it) costs nothing.
+  if (scans.size() != h0.shard.count) {
+    constexpr std::size_t kNamed = 10;
+    std::string missing;
+    std::size_t named = 0;
+    std::size_t expect = 0;
+    for (std::size_t k = 0; k <= scans.size() && named < kNamed; ++k) {
+      const std::size_t next = k < scans.size() ? scans[k].header.shard.index : h0.shard.count;
+      for (; expect < next && named < kNamed; ++expect, ++named) missing += (named ? ", " : "") + std::to_string(expect);
+      expect = next + 1;
     }
-    missing += (missing.empty() ? "" : ", ") + std::to_string(i);
-  }
-  if (!missing.empty())
-    throw InputError("merge: shard" + std::string(missing.find(',') != std::string::npos ? "s " : " ") + missing +
-                     " of " + std::to_string(h0.shard.count) + " missing (have " + std::to_string(scans.size()) +
+    const std::size_t count = h0.shard.count - scans.size();
+    if (count > named) missing += " and " + std::to_string(count - named) + " more";
+    throw InputError("merge: shard" + std::string(count > 1 ? "s " : " ") + missing + " of " +
+                     std::to_string(h0.shard.count) + " missing (have " + std::to_string(scans.size()) +
                      " partial results of the run of " + h0.file.string() + ")");
+  }
   std::size_t at = 0;
   for (const Scan& s : scans) {
     if (s.header.begin != at || s.records.size() != s.header.end - s.header.begin)

@@ -4,6 +4,7 @@
 #include "src/cli/bench_command.h"
 #include "src/cli/commands.h"
 #include "src/base/error.h"
+#include "src/base/text.h"
 #include "src/scene/scene_loader.h"
 #include "src/output/scene_summary.h"
 #include "src/cli/sweep.h"
@@ -18,8 +19,11 @@
 #include <cstdlib>
 #endif
 
+#include <charconv>
+#include <cmath>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <string>
 
 namespace {
@@ -59,11 +63,36 @@ void reserve_heap() {
 }
 #endif
 
+// Option values checked with messages a person reads (CLI11's own range
+// check prints the largest double in full for an unbounded range).
+constexpr int kMaxThreads = 4096;
+const CLI::Validator kThreadCount(
+    [](std::string& text) -> std::string {
+      int v = -1;
+      const auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+      if (ec != std::errc() || p != text.data() + text.size() || v < 0 || v > kMaxThreads)
+        return "expected a whole number from 0 (all cores) to " + std::to_string(kMaxThreads) + ", not '" +
+               plancheck::printable(text) + "'";
+      return {};
+    },
+    "0..4096");
+const CLI::Validator kFinitePositive(
+    [](std::string& text) -> std::string {
+      double v = 0;
+      const auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+      if (ec != std::errc() || p != text.data() + text.size() || !std::isfinite(v) || !(v > 0))
+        return "expected a finite number > 0, not '" + plancheck::printable(text) + "'";
+      return {};
+    },
+    "> 0");
+
 // `--srdf FILE` and `--package NAME=DIR` on every command that reads a scene
-// (a bare .urdf is a scene too).
+// (a bare .urdf is a scene too). Each --package takes one value, so options
+// may stand before, between or after the positional arguments.
 void add_robot_options(CLI::App* cmd, std::string& srdf, std::vector<std::string>& packages) {
   cmd->add_option("--srdf", srdf, "SRDF of a bare .urdf: its disable_collisions pairs are allowed");
-  cmd->add_option("--package", packages, "NAME=DIR: where package://NAME/ meshes are (repeatable)");
+  cmd->add_option("--package", packages, "NAME=DIR: where package://NAME/ meshes are (repeatable)")
+      ->allow_extra_args(false);
 }
 
 plancheck::SceneOptions scene_options(const std::string& srdf, const std::vector<std::string>& packages) {
@@ -96,6 +125,8 @@ int main(int argc, char** argv) {
 #endif
   CLI::App app{"plancheck: verify robot-arm motion plans against a scene"};
   app.require_subcommand(1);
+  app.footer("Exit status: 2 on bad input or any other error (one line on stderr naming the file and what is wrong);\n"
+             "otherwise as each command's --help says. Docs: README.md and docs/ in the source tree.");
   app.set_version_flag("--version", std::string("plancheck ") + PLANCHECK_VERSION);  // project(VERSION), src/api/CMakeLists.txt
 
   std::string scene_file;
@@ -104,6 +135,7 @@ int main(int argc, char** argv) {
   CLI::App* scene_cmd = app.add_subcommand("scene", "list parts, actions, checked pairs and reference contacts");
   scene_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
   add_robot_options(scene_cmd, srdf, packages);
+  scene_cmd->footer("Exit status: 0 listed, 2 bad input.");
 
   plancheck::VerifyArgs verify;
   std::vector<std::string> plan_files;
@@ -111,9 +143,11 @@ int main(int argc, char** argv) {
   CLI::App* verify_cmd = app.add_subcommand("verify", "check every state of every plan; exit 0 all safe, 1 a violation");
   verify_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
   add_robot_options(verify_cmd, srdf, packages);
+  verify_cmd->footer("Exit status: 0 every plan safe, 1 a violation in any plan, 2 bad input or any other error\n"
+                     "(then no report.json is left). A shard (--shard) exits 0 once its partial result is written.");
   verify_cmd->add_option("PLAN", plan_files, "plan files (CSV)")->required();
   verify_cmd->add_option("--out", out_dir, "folder for report.json and one CSV per plan")->capture_default_str();
-  verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  verify_cmd->add_option("--threads", verify.threads, "worker threads (0: all cores)")->check(kThreadCount);
   verify_cmd->add_flag("--json", verify.json, "print report.json on stdout instead of the plan lines");
   verify_cmd->add_flag("--html", verify.html, "also write DIR/report.html: the plans replayed in 3D, one self-contained file");
   verify_cmd->add_flag("--quiet", verify.quiet, "no progress or status lines on stderr");
@@ -126,7 +160,7 @@ int main(int argc, char** argv) {
   verify_cmd
       ->add_option("--continuous-tolerance", verify.continuous_tolerance,
                    "clearance witness tolerance between states, in the scene's length unit (default 1e-5 m)")
-      ->check(CLI::PositiveNumber)
+      ->check(kFinitePositive)
       ->needs(continuous);
   std::string verify_shard;
   CLI::Option* shard_opt = verify_cmd->add_option(
@@ -142,8 +176,10 @@ int main(int argc, char** argv) {
       "merge", "join the partial results of verify or sweep --shard I/N (all N) into the files, lines and exit status of one run");
   merge_cmd->add_option("DIR", merge_parts, "folders holding part-I-of-N.plancheck files")->required();
   merge_cmd->add_option("--out", merge_out, "folder for the joined outputs")->capture_default_str();
-  merge_cmd->add_option("--threads", merge.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  merge_cmd->add_option("--threads", merge.threads, "worker threads (0: all cores)")->check(kThreadCount);
   merge_cmd->add_flag("--quiet", merge.quiet, "no status lines on stderr");
+  merge_cmd->footer("Exit status: as the single run of verify or sweep would (verify: 0 safe, 1 a violation), 2 bad input\n"
+                    "(a shard missing, repeated, cut short or of another run).");
 
   plancheck::DigArgs dig;
   std::string dig_plan;
@@ -151,6 +187,7 @@ int main(int argc, char** argv) {
   CLI::App* dig_cmd = app.add_subcommand("dig", "dig one plan; write the terrain before/after (ESRI ASCII) and a PNG map");
   dig_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
   add_robot_options(dig_cmd, srdf, packages);
+  dig_cmd->footer("Exit status: 0 dug and written, 2 bad input (the scene needs a terrain and a scoop block).");
   dig_cmd->add_option("PLAN", dig_plan, "plan file (CSV)")->required();
   dig_cmd->add_flag("--quiet", dig.quiet, "no progress on stderr");
   dig_cmd->add_option("--out", dig_out, "folder for before.asc, after.asc and dig.png")->capture_default_str();
@@ -163,6 +200,7 @@ int main(int argc, char** argv) {
       "sweep", "check a grid of configurations: DIR/verdict.npy, DIR/distance.npy (NumPy), DIR/sweep.json summary");
   sweep_cmd->add_option("SCENE", scene_file, "scene file (plancheck-scene/1 JSON, or a robot alone: .urdf)")->required();
   add_robot_options(sweep_cmd, srdf, packages);
+  sweep_cmd->footer("Exit status: 0 when it ran (a sweep maps the space, it judges no plan), 2 bad input or any other error.");
   CLI::Option* steps_opt = sweep_cmd->add_option(
       "--steps", sweep_steps, "values per driving parameter with limits, ends included (default 9)");
   CLI::Option* grid_opt = sweep_cmd->add_option(
@@ -174,7 +212,7 @@ int main(int argc, char** argv) {
                       "check every configuration on its own: distance.npy exact everywhere (slower; --csv implies it)");
   sweep_cmd->add_flag("--html", sweep.html, "also write DIR/sweep.html: verdict heat maps, the arm, safe targets; one self-contained file");
   sweep_cmd->add_flag("--quiet", sweep.quiet, "no progress or status lines on stderr");
-  sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(CLI::NonNegativeNumber);
+  sweep_cmd->add_option("--threads", sweep.threads, "worker threads (0: all cores)")->check(kThreadCount);
   std::string sweep_shard;
   CLI::Option* sweep_shard_opt = sweep_cmd->add_option(
       "--shard", sweep_shard, "I/N: check only the I-th (from 0) of N parts of the grid and write a partial result "
@@ -191,7 +229,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help and the like
-    std::cerr << "plancheck: " << e.what() << " (run plancheck --help)\n";
+    std::cerr << "plancheck: " << plancheck::printable(e.what()) << " (run plancheck --help)\n";
     return kExitBadInput;
   }
 
@@ -230,10 +268,16 @@ int main(int argc, char** argv) {
       return plancheck::run_bench(bench_cmd->remaining(), std::cerr);
     }
   } catch (const plancheck::InputError& e) {
-    std::cerr << "plancheck: " << e.what() << "\n";
+    // One line, whatever names the message quotes (text.h).
+    std::cerr << "plancheck: " << plancheck::printable(e.what()) << "\n";
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    // The loaders name their file (load_scene, load_plan); what is left is the run's.
+    std::cerr << "plancheck: " << plancheck::printable(scene_file.empty() ? std::string("the run") : scene_file)
+              << ": out of memory (the inputs need more than this machine has)\n";
     return kExitBadInput;
   } catch (const std::exception& e) {
-    std::cerr << "plancheck: error: " << e.what() << "\n";
+    std::cerr << "plancheck: error: " << plancheck::printable(e.what()) << "\n";
     return kExitBadInput;
   }
   return 0;

@@ -11,6 +11,8 @@
 #include "src/cli/run_setup.h"
 
 #include "src/base/error.h"
+#include "src/base/files.h"
+#include "src/base/text.h"
 #include "src/cli/distribute.h"
 #include "src/base/parallel.h"
 #include "src/base/progress.h"
@@ -150,38 +152,45 @@ struct Tally {
   }
 };
 
-// sweep.csv, written to sweep.csv.tmp and renamed when complete.
+// sweep.csv, written to a fresh temporary (files.h) renamed when complete;
+// names as RFC 4180 fields (csv_field).
 class CsvOut {
  public:
   // Writes the header (the folder exists: prepare_out).
   CsvOut(const Scene& scene, const std::vector<SweepAxis>& axes, const std::filesystem::path& out)
-      : path_(out / "sweep.csv"), tmp_(path_.string() + ".tmp") {
-    csv_.open(tmp_, std::ios::binary | std::ios::trunc);
-    if (!csv_) throw InputError(tmp_.string() + ": cannot write");
-    for (const SweepAxis& a : axes) csv_ << scene.parameter_names[static_cast<std::size_t>(a.parameter)] << ",";
-    csv_ << "verdict,collision,min_distance,part_a,part_b,target_x,target_y,target_z\n";
+      : file_(out / "sweep.csv") {
+    for (const SweepAxis& a : axes)
+      buffer_.append(csv_field(scene.parameter_names[static_cast<std::size_t>(a.parameter)])).append(",");
+    buffer_ += "verdict,collision,min_distance,part_a,part_b,target_x,target_y,target_z\n";
   }
 
   void row(const std::vector<SweepAxis>& axes, const std::vector<double>& params, const Row& row,
            const Checker& checker, double unit) {
     for (std::size_t k = 0; k < axes.size(); ++k)
-      csv_ << num(params[static_cast<std::size_t>(axes[k].parameter)]) << ",";
-    csv_ << verdict_name(row.verdict) << "," << (row.collision ? 1 : 0) << ","
-         << num(row.collision ? 0.0 : row.min_distance / unit) << ","
-         << (row.part_a >= 0 ? checker.part_name(row.part_a) : "") << ","
-         << (row.part_b >= 0 ? checker.part_name(row.part_b) : "") << "," << num(row.target.x() / unit) << ","
-         << num(row.target.y() / unit) << "," << num(row.target.z() / unit) << "\n";
+      buffer_.append(num(params[static_cast<std::size_t>(axes[k].parameter)])).append(",");
+    buffer_.append(verdict_name(row.verdict)).append(row.collision ? ",1," : ",0,");
+    buffer_.append(num(row.collision ? 0.0 : row.min_distance / unit)).append(",");
+    if (row.part_a >= 0) buffer_.append(csv_field(checker.part_name(row.part_a)));
+    buffer_.append(",");
+    if (row.part_b >= 0) buffer_.append(csv_field(checker.part_name(row.part_b)));
+    buffer_.append(",").append(num(row.target.x() / unit)).append(",").append(num(row.target.y() / unit));
+    buffer_.append(",").append(num(row.target.z() / unit)).append("\n");
+    if (buffer_.size() >= kFlushBytes) flush();
   }
 
   void finish() {
-    if (!csv_.flush()) throw InputError(tmp_.string() + ": write failed");
-    csv_.close();
-    std::filesystem::rename(tmp_, path_);
+    flush();
+    file_.commit();
   }
 
  private:
-  std::filesystem::path path_, tmp_;
-  std::ofstream csv_;
+  static constexpr std::size_t kFlushBytes = std::size_t{1} << 20;
+  void flush() {
+    file_.write(buffer_);
+    buffer_.clear();
+  }
+  TempFile file_;
+  std::string buffer_;
 };
 
 // The per-configuration outputs: verdict.npy and distance.npy (the grid's
@@ -672,14 +681,9 @@ Json summary_json(const SweepArgs& args, const Scene& scene, const Checker& chec
   return j;
 }
 
-// dir/sweep.json, written to sweep.json.tmp and renamed when complete.
+// dir/sweep.json, through a fresh temporary renamed when complete (files.h).
 void write_summary_json(const Json& j, const std::filesystem::path& dir) {
-  const std::filesystem::path tmp = (dir / "sweep.json").string() + ".tmp";
-  std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-  f << j.dump(2) << "\n";
-  if (!f.flush()) throw InputError(tmp.string() + ": write failed");
-  f.close();
-  std::filesystem::rename(tmp, dir / "sweep.json");
+  write_file_atomically(dir / "sweep.json", j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
 }
 
 // stdout: the summary in a few lines.
@@ -692,17 +696,17 @@ void print_summary(std::ostream& out, const Scene& scene, const Checker& checker
   auto pct = [&](std::size_t c) { return num(std::round(1000.0 * static_cast<double>(c) / static_cast<double>(total)) / 10.0); };
   out << "sweep: " << total << " configurations over";
   for (const SweepAxis& a : grid.axes)
-    out << " " << scene.parameter_names[static_cast<std::size_t>(a.parameter)] << "(" << a.values.size() << ")";
+    out << " " << printable(scene.parameter_names[static_cast<std::size_t>(a.parameter)]) << "(" << a.values.size() << ")";
   out << "\n";
   out << "  safe " << safe << " (" << pct(safe) << "%), collision " << tally.count(Verdict::kCollision)
       << ", clearance " << tally.count(Verdict::kClearance) << ", limits " << tally.count(Verdict::kLimits) << "\n";
   for (std::size_t i = 0; i < std::min<std::size_t>(5, by_count.size()); ++i)
-    out << "  collides: " << checker.part_name(by_count[i].second.first) << " / "
-        << checker.part_name(by_count[i].second.second) << " in " << by_count[i].first << " configurations\n";
+    out << "  collides: " << printable(checker.part_name(by_count[i].second.first)) << " / "
+        << printable(checker.part_name(by_count[i].second.second)) << " in " << by_count[i].first << " configurations\n";
   const Row& closest = tally.closest;
   if (std::isfinite(closest.min_distance) && closest.min_distance <= tally.bound_min)
     out << "  closest without contact: " << num(closest.min_distance / unit) << " " << scene.length_unit << " ("
-        << checker.part_name(closest.part_a) << " / " << checker.part_name(closest.part_b) << ")\n";
+        << printable(checker.part_name(closest.part_a)) << " / " << printable(checker.part_name(closest.part_b)) << ")\n";
   else if (std::isfinite(tally.bound_min))
     out << "  closest without contact: at least " << num(tally.bound_min / unit) << " " << scene.length_unit
         << " (certified)\n";

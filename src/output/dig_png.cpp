@@ -2,6 +2,7 @@
 #include "src/output/dig_png.h"
 
 #include "src/base/error.h"
+#include "src/base/files.h"
 
 #include <cairo.h>
 
@@ -11,6 +12,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace plancheck {
@@ -257,7 +259,16 @@ DigMapResult write_dig_png(const std::filesystem::path& file, const DigMapReques
   text(cr, kPad, m.height - 8, key, 11);
 
   cairo_surface_flush(surface.get());
-  if (cairo_surface_write_to_png(surface.get(), file.string().c_str()) != CAIRO_STATUS_SUCCESS) fail(file, "cannot write the PNG");
+  // Encoded in memory, then written as every output is (files.h: a fresh
+  // temporary renamed into place; cairo's own writer would follow a link).
+  std::string png;
+  const auto append = [](void* closure, const unsigned char* data, unsigned int length) {
+    static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+    return CAIRO_STATUS_SUCCESS;
+  };
+  if (cairo_surface_write_to_png_stream(surface.get(), append, &png) != CAIRO_STATUS_SUCCESS)
+    fail(file, "cannot encode the PNG");
+  write_file_atomically(file, png);
   return m;
 }
 

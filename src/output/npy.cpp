@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "src/output/npy.h"
 
+#include "src/base/files.h"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -71,48 +73,27 @@ NpyWriter::NpyWriter(std::filesystem::path path, NpyType type, std::vector<std::
   }
   const std::string header = npy_header(type, shape);
   data_offset_ = header.size();
-  tmp_ = path_;
-  tmp_ += ".partial";
-  fd_ = ::open(tmp_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd_ < 0) fail(tmp_, "open", errno);
-  try {
-    write_at(fd_, tmp_, header.data(), header.size(), 0);
-    if (::ftruncate(fd_, static_cast<off_t>(data_offset_ + elements_ * element_size_)) != 0) fail(tmp_, "size", errno);
-  } catch (...) {
-    ::close(fd_);
-    fd_ = -1;
-    std::error_code ec;
-    std::filesystem::remove(tmp_, ec);
-    throw;
-  }
+  file_ = std::make_unique<TempFile>(path_);
+  fd_ = file_->fd();
+  write_at(fd_, file_->path(), header.data(), header.size(), 0);
+  if (::ftruncate(fd_, static_cast<off_t>(data_offset_ + elements_ * element_size_)) != 0)
+    fail(file_->path(), "size", errno);  // file_ removes the temporary
 }
 
-NpyWriter::~NpyWriter() {
-  if (fd_ < 0) return;
-  ::close(fd_);
-  std::error_code ec;
-  std::filesystem::remove(tmp_, ec);
-}
+NpyWriter::~NpyWriter() = default;  // file_ removes an unfinished temporary
 
 void NpyWriter::write(std::uint64_t first, const void* data, std::uint64_t count) {
-  if (fd_ < 0) throw std::logic_error("NpyWriter::write after finish");
+  if (!file_) throw std::logic_error("NpyWriter::write after finish");
   if (first > elements_ || count > elements_ - first)
     throw std::out_of_range("NpyWriter::write beyond the array of " + path_.string());
-  write_at(fd_, tmp_, static_cast<const char*>(data), count * element_size_, data_offset_ + first * element_size_);
+  write_at(fd_, file_->path(), static_cast<const char*>(data), count * element_size_, data_offset_ + first * element_size_);
 }
 
 void NpyWriter::finish() {
-  if (fd_ < 0) return;
-  const int fd = std::exchange(fd_, -1);
-  if (::close(fd) != 0) {
-    const int err = errno;
-    std::error_code ec;
-    std::filesystem::remove(tmp_, ec);
-    fail(tmp_, "close", err);
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp_, path_, ec);
-  if (ec) fail(path_, "rename", ec.value());
+  if (!file_) return;
+  file_->commit();
+  file_.reset();
+  fd_ = -1;
 }
 
 }  // namespace plancheck

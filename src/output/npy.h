@@ -17,10 +17,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace plancheck {
+
+class TempFile;  // src/base/files.h
 
 enum class NpyType { kUint8, kFloat32 };
 
@@ -34,7 +37,7 @@ class NpyWriter {
   // array (unwritten elements read as zero). Throws std::runtime_error
   // naming the file on any I/O error.
   NpyWriter(std::filesystem::path path, NpyType type, std::vector<std::uint64_t> shape);
-  ~NpyWriter();  // removes the temporary file unless finish() ran
+  ~NpyWriter();  // removes the temporary file unless finish() ran (files.h: created fresh, never through a link)
   NpyWriter(const NpyWriter&) = delete;
   NpyWriter& operator=(const NpyWriter&) = delete;
 
@@ -49,11 +52,12 @@ class NpyWriter {
   std::uint64_t elements() const { return elements_; }
 
  private:
-  std::filesystem::path path_, tmp_;
+  std::filesystem::path path_;
   std::size_t element_size_;
   std::uint64_t elements_ = 1;
   std::uint64_t data_offset_ = 0;
-  int fd_ = -1;
+  std::unique_ptr<TempFile> file_;  // null once finished
+  int fd_ = -1;                     // file_'s, for the positioned writes
 };
 
 }  // namespace plancheck

@@ -2,12 +2,14 @@
 #include "src/output/report.h"
 
 #include "src/base/error.h"
+#include "src/base/files.h"
+#include "src/base/text.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <map>
 #include <ostream>
 #include <string>
 
@@ -24,9 +26,10 @@ Json num_json(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 Json point_json(const Vec3& p, double unit) { return Json::array({p.x() / unit, p.y() / unit, p.z() / unit}); }
 
 
+// Names on a terminal: escaped (text.h), whatever the model file holds.
 std::string pair_text(const Checker& c, int a, int b) {
   if (a < 0) return "-";
-  return c.part_name(a) + " / " + c.part_name(b);
+  return printable(c.part_name(a)) + " / " + printable(c.part_name(b));
 }
 
 // A violation between states that is only the step budget running out
@@ -42,7 +45,7 @@ std::string violation_text(const Checker& checker, const Scene& scene, const Pla
                   (v.between ? " between states " + std::to_string(v.state) + " and " + std::to_string(v.state + 1)
                              : " at state " + std::to_string(v.state));
   if (v.part_a >= 0) s += " (" + pair_text(checker, v.part_a, v.part_b) + ")";
-  if (v.action >= 0) s += " (" + scene.actions[static_cast<std::size_t>(v.action)].name + ")";
+  if (v.action >= 0) s += " (" + printable(scene.actions[static_cast<std::size_t>(v.action)].name) + ")";
   if (uncertified(r, v))
     s += " (not certified: the motion needs more than " + std::to_string(r.segments[v.state].steps) +
          " exact checks)";
@@ -57,10 +60,10 @@ void print_plan_lines(const Checker& checker, const Scene& scene, const std::vec
                       const RunInfo& info, std::ostream& out) {
   std::size_t states = 0;
   std::size_t width = 4;
-  for (const PlanResult& r : results) width = std::max(width, r.plan->name.size());
+  for (const PlanResult& r : results) width = std::max(width, printable(r.plan->name).size());
   for (const PlanResult& r : results) {
     states += r.states.size();
-    std::string name = r.plan->name;
+    std::string name = printable(r.plan->name);
     name.resize(width, ' ');
     char head[64];
     std::snprintf(head, sizeof head, "%-9s %5zu states", verdict_name(r.verdict), r.states.size());
@@ -89,15 +92,40 @@ void print_plan_lines(const Checker& checker, const Scene& scene, const std::vec
   out << tail;
 }
 
-void write_atomically(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) fail(tmp, "cannot write");
-    f << text;
-    if (!f.flush()) fail(tmp, "write failed");
+void write_atomically(const std::filesystem::path& path, const std::string& text) { write_file_atomically(path, text); }
+
+std::string csv_field(std::string_view text) {
+  const bool quote = text.find_first_of(",\"\r\n") != std::string_view::npos ||
+                     (!text.empty() && (text.front() == ' ' || text.front() == '\t' || text.back() == ' ' ||
+                                        text.back() == '\t'));
+  if (!quote) return std::string(text);
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += c;
   }
-  std::filesystem::rename(tmp, path);
+  return out + "\"";
+}
+
+std::string plan_csv_name(std::string_view plan_name) {
+  std::string name(plan_name);
+  for (char& c : name)
+    if (c == '/' || c == '\\') c = '_';
+  if (name.empty() || name.front() == '.') name.insert(name.begin(), '_');
+  return name + ".csv";
+}
+
+void check_plan_csv_names(const std::vector<Plan>& plans) {
+  std::map<std::string, const Plan*> seen;
+  for (const Plan& p : plans) {
+    const auto [at, fresh] = seen.emplace(plan_csv_name(p.name), &p);
+    if (fresh) continue;
+    const Plan& first = *at->second;
+    fail(p.file, "writes the same report file " + at->first + " as " + first.file.string() +
+                     (first.name == p.name ? " (both plans are named '" + p.name + "')"
+                                           : " (plans named '" + first.name + "' and '" + p.name + "')") +
+                     "; give one another '# name:'");
+  }
 }
 
 // Distances carry 12 significant digits (the contract asks for at least 9).
@@ -121,7 +149,8 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
     const bool probes = !r.probes.empty();
     const bool dig = r.dig.has_value();
     if (probes)
-      for (const ProbeConfig& pc : scene.probes) csv.append(",probe:").append(pc.name).append(",probe:").append(pc.name).append(":hit");
+      for (const ProbeConfig& pc : scene.probes)
+        csv.append(",").append(csv_field("probe:" + pc.name)).append(",").append(csv_field("probe:" + pc.name + ":hit"));
     if (dig) csv += ",scoop_depth,scoop_volume";
     // --continuous: the segment from this state to the next (empty on the last row).
     const bool segments = !r.segments.empty();
@@ -136,7 +165,8 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
       const StateResult& st = r.states[s];
       csv += std::to_string(s) + "," + (st.collision ? "1" : "0") + ",";
       if (st.part_a >= 0) {
-        csv += num(st.min_distance / unit) + "," + checker.part_name(st.part_a) + "," + checker.part_name(st.part_b);
+        csv += num(st.min_distance / unit) + "," + csv_field(checker.part_name(st.part_a)) + "," +
+               csv_field(checker.part_name(st.part_b));
         for (const Vec3* p : {&st.point_a, &st.point_b})
           for (int i = 0; i < 3; ++i) csv.append(",").append(num((*p)[i] / unit));  // append: no GCC 12 -Wrestrict false alarm
       } else if (st.distance_is_bound) {
@@ -145,11 +175,11 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
         csv += ",,,,,,,,";
       }
       csv += ",";
-      if (st.limit_action >= 0) csv += scene.actions[static_cast<std::size_t>(st.limit_action)].name;
+      if (st.limit_action >= 0) csv += csv_field(scene.actions[static_cast<std::size_t>(st.limit_action)].name);
       if (probes)
         for (const ProbeReading& pr : r.probes.at(s)) {
           csv.append(",").append(num(pr.distance / unit)).append(",");
-          if (pr.hit >= 0) csv.append(r.probe_targets.at(static_cast<std::size_t>(pr.hit)));
+          if (pr.hit >= 0) csv.append(csv_field(r.probe_targets.at(static_cast<std::size_t>(pr.hit))));
         }
       if (dig) csv.append(",").append(num(r.dig_steps.at(s).depth / unit)).append(",").append(num(r.dig_steps.at(s).volume / unit3));
       if (segments) {
@@ -157,7 +187,8 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
         if (g.checked) {
           csv.append(",").append(num(g.lower_bound / unit)).append(",").append(num(g.min_sampled / unit));
           csv.append(g.collision ? ",1" : ",0").append(g.clearance ? ",1" : ",0").append(",");
-          if (g.part_a >= 0) csv.append(checker.part_name(g.part_a)).append(",").append(checker.part_name(g.part_b));
+          if (g.part_a >= 0)
+            csv.append(csv_field(checker.part_name(g.part_a))).append(",").append(csv_field(checker.part_name(g.part_b)));
           else csv.append(",");
           csv.append(",").append(g.witness_t >= 0.0 ? num(g.witness_t) : "").append(",").append(std::to_string(g.steps));
         } else {
@@ -167,7 +198,7 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
       if (info.verdict_only) csv.append(",").append(verdict_name(state_verdict(st, scene.safety_margin)));
       csv += "\n";
     }
-    write_atomically(dir / (plan.name + ".csv"), csv);
+    write_atomically(dir / plan_csv_name(plan.name), csv);
 
     Json collisions = Json::array();
     for (std::size_t s = 0; s < r.states.size() && collisions.size() < kMaxCollisionStatesListed; ++s) {
@@ -195,6 +226,7 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
 
     Json p = {{"name", plan.name},
               {"file", plan.file.string()},
+              {"csv", plan_csv_name(plan.name)},
               {"states", r.states.size()},
               {"verdict", verdict_name(r.verdict)},
               {"first_violation", first}};
@@ -265,7 +297,9 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
     for (const ChunkSeconds& c : info.chunks) chunks.push_back({{"rank", c.rank}, {"items", {c.begin, c.end}}, {"seconds", c.seconds}});
     report["seconds"]["chunks"] = chunks;
   }
-  write_atomically(dir / "report.json", report.dump(2) + "\n");
+  // Names are checked UTF-8 where they are read; a path (the scene's, the
+  // plans') need not be, and is written with U+FFFD for what is not.
+  write_atomically(dir / "report.json", report.dump(2, ' ', false, Json::error_handler_t::replace) + "\n");
 }
 
 }  // namespace plancheck

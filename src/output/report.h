@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Verification results -> stdout lines, DIR/report.json, DIR/<plan>.csv
-// (contract: README "Reports"). Lengths are written in the scene's length_unit.
+// (contract: docs/formats.md "Reports"). Lengths are written in the scene's length_unit.
 #pragma once
 
 #include "src/checks/verify.h"
@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iosfwd>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace plancheck {
@@ -38,12 +39,29 @@ struct RunInfo {
 // A number as the CSVs print it: 12 significant digits ("" when not finite).
 std::string csv_number(double v);
 
+// A text field of a CSV as RFC 4180 writes it: in double quotes (a quote
+// doubled) when it holds a comma, a quote, a line break or blanks at its
+// ends; as it is otherwise. Names are the ones that need it.
+std::string csv_field(std::string_view text);
+
+// The file name of a plan's CSV in DIR, from its name: the name itself where
+// it is a plain file name; otherwise every '/' and '\\' becomes '_' and a
+// leading '.' too (no folder is ever named, no hidden file, no "..").
+// Names are checked text already (plan.cpp: UTF-8, no control characters,
+// at most kMaxPlanNameBytes), so the result is a short, plain file name.
+std::string plan_csv_name(std::string_view plan_name);
+
+// Throws InputError, naming both plan files, when two plans would write the
+// same DIR/<name>.csv: called before anything is checked.
+void check_plan_csv_names(const std::vector<Plan>& plans);
+
 // One line per plan, then a summary line.
 void print_plan_lines(const Checker& checker, const Scene& scene, const std::vector<PlanResult>& results,
                       const RunInfo& info, std::ostream& out);
 
-// Writes `text` to PATH.tmp and renames it into place, so a reader never sees
-// a half-written file. Throws InputError naming the file.
+// Writes `text` to a fresh temporary beside PATH and renames it into place
+// (files.h: never through a link), so a reader never sees a half-written
+// file. Throws InputError naming the file.
 void write_atomically(const std::filesystem::path& path, const std::string& text);
 
 // Writes DIR/<plan>.csv for every plan and DIR/report.json last, each through

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "src/output/scene_summary.h"
 
+#include "src/base/text.h"
+
 #include "src/geometry/collision_model.h"
 #include "src/base/parallel.h"
 #include "src/scene/robot_loader.h"
@@ -16,6 +18,27 @@
 namespace plancheck {
 namespace {
 
+// Every name and path below is printed through printable() (text.h): no
+// name from a model or URDF can move the cursor or start a line.
+std::string pr(const std::string& s) { return printable(s); }
+std::string pr(const std::filesystem::path& p) { return printable(p.string()); }
+
+// An attribute value as XML writes it, for the paste-ready SRDF lines.
+std::string xml_attribute(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
 const char* type_name(const Action& a) {
   switch (a.type) {
     case ActionType::kRotate: return "rotate";
@@ -29,7 +52,7 @@ const char* type_name(const Action& a) {
 std::string chain_text(const Scene& scene, const std::vector<int>& chain) {
   if (chain.empty()) return "-";
   std::string s;
-  for (int a : chain) s += (s.empty() ? "" : " > ") + scene.actions[a].name;
+  for (int a : chain) s += (s.empty() ? "" : " > ") + pr(scene.actions[a].name);
   return s;
 }
 
@@ -37,8 +60,8 @@ std::string chain_text(const Scene& scene, const std::vector<int>& chain) {
 // and its links in contact at the zero pose as lines for an SRDF.
 void print_robot(const Scene& scene, const std::vector<ReferenceContact>& contacts, std::ostream& out) {
   const RobotInfo& r = *scene.robot;
-  out << "\nrobot: " << (r.name.empty() ? "<unnamed>" : r.name) << " from " << r.urdf.string();
-  if (!r.srdf.empty()) out << " and " << r.srdf.string() << " (" << r.disabled.size() << " disable_collisions)";
+  out << "\nrobot: " << (r.name.empty() ? "<unnamed>" : pr(r.name)) << " from " << pr(r.urdf);
+  if (!r.srdf.empty()) out << " and " << pr(r.srdf) << " (" << r.disabled.size() << " disable_collisions)";
   out << "\n  " << r.links << " links, " << r.joints << " joints; " << (r.visual ? "visual" : "collision")
       << " geometry; padding " << r.padding << " m, scale " << r.scale << "\n";
   double cylinder = 0, sphere = 0;
@@ -61,7 +84,8 @@ void print_robot(const Scene& scene, const std::vector<ReferenceContact>& contac
   std::vector<std::string> lines;
   for (const ReferenceContact& c : contacts) {
     if (c.allowed || !links.count(c.a) || !links.count(c.b)) continue;
-    lines.push_back("  <disable_collisions link1=\"" + c.a + "\" link2=\"" + c.b + "\" reason=\"" +
+    lines.push_back("  <disable_collisions link1=\"" + pr(xml_attribute(c.a)) + "\" link2=\"" + pr(xml_attribute(c.b)) +
+                    "\" reason=\"" +
                     (adjacent.count({c.a, c.b}) ? "Adjacent" : "Default") + "\"/>");
   }
   out << "links in contact at the zero pose, not yet allowed (" << lines.size() << "; for the SRDF):\n";
@@ -119,24 +143,24 @@ std::vector<ReferenceContact> reference_contacts(const Scene& scene) {
 void print_scene_summary(const Scene& scene, std::ostream& out) {
   std::size_t triangles = 0;
   for (const Part& p : scene.parts) triangles += p.mesh.triangles.size();
-  out << "scene: " << scene.file.string() << "\n";
-  out << "model: " << scene.model_file.string() << " (" << scene.nodes.size() << " nodes, " << scene.parts.size()
+  out << "scene: " << pr(scene.file) << "\n";
+  out << "model: " << pr(scene.model_file) << " (" << scene.nodes.size() << " nodes, " << scene.parts.size()
       << " parts, " << triangles << " triangles)\n";
   out << "units: length " << scene.length_unit << ", angle " << scene.angle_unit << "\n";
   out << "safety margin: " << scene.safety_margin / scene.length_scale << " " << scene.length_unit << "\n";
 
   out << "\nparts (" << scene.parts.size() << "):\n";
   for (const Part& p : scene.parts) {
-    out << "  " << p.name << "  " << p.mesh.triangles.size() << " triangles  "
+    out << "  " << pr(p.name) << "  " << p.mesh.triangles.size() << " triangles  "
         << (p.moving() ? "moving" : "static") << "  chain: " << chain_text(scene, p.chain) << "  ("
-        << scene.nodes[p.node].path << ")\n";
+        << pr(scene.nodes[p.node].path) << ")\n";
   }
 
   out << "\nactions (" << scene.actions.size() << "):\n";
   for (const Action& a : scene.actions) {
-    out << "  " << a.name << "  " << type_name(a) << "  node " << a.node_name << "  limits ";
+    out << "  " << pr(a.name) << "  " << type_name(a) << "  node " << pr(a.node_name) << "  limits ";
     if (a.mimic >= 0) {
-      out << "none; mimics " << scene.actions[a.mimic].name << " (" << a.multiplier << " x + " << a.offset
+      out << "none; mimics " << pr(scene.actions[a.mimic].name) << " (" << a.multiplier << " x + " << a.offset
           << "), no column";
     } else if (a.has_limits) {
       const std::string unit_name = a.type == ActionType::kRotate ? scene.angle_unit
@@ -150,12 +174,12 @@ void print_scene_summary(const Scene& scene, std::ostream& out) {
 
   out << "\nchecked pairs (" << scene.checked_pairs.size() << "):\n";
   for (const CheckedPair& c : scene.checked_pairs)
-    out << "  " << scene.parts[c.a].name << " - " << scene.parts[c.b].name << "\n";
+    out << "  " << pr(scene.parts[c.a].name) << " - " << pr(scene.parts[c.b].name) << "\n";
   if (scene.terrain && scene.terrain->collide) {
     out << "terrain: checked against every moving part";
     if (!scene.terrain_allowed_parts.empty()) {
       out << " except";
-      for (int p : scene.terrain_allowed_parts) out << " " << scene.parts[p].name;
+      for (int p : scene.terrain_allowed_parts) out << " " << pr(scene.parts[p].name);
     }
     out << "\n";
   }
@@ -163,11 +187,11 @@ void print_scene_summary(const Scene& scene, std::ostream& out) {
   const auto contacts = reference_contacts(scene);
   out << "\ncontacts at reference pose (" << contacts.size() << "):\n";
   for (const ReferenceContact& c : contacts)
-    out << "  " << c.a << " - " << c.b << (c.allowed ? "  (allowed)" : "  (checked: a collision at the reference pose)")
+    out << "  " << pr(c.a) << " - " << pr(c.b) << (c.allowed ? "  (allowed)" : "  (checked: a collision at the reference pose)")
         << "\n";
 
   if (scene.robot) print_robot(scene, contacts, out);
-  for (const std::string& w : scene.warnings) out << "warning: " << w << "\n";
+  for (const std::string& w : scene.warnings) out << "warning: " << pr(w) << "\n";
 }
 
 }  // namespace plancheck

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
-// The Python module `plancheck`: a thin layer over the public C++ API
+// plancheck._plancheck, the compiled part of the Python package `plancheck`
+// (src/python/plancheck): a thin layer over the public C++ API
 // (plancheck/plancheck.h), contract in shared/spec/plan-and-report-format.md
-// ("Embedding"). A batch is checked on all the scene's threads with the GIL
-// released; bad input raises plancheck.Error (a ValueError) with the message
-// `plancheck verify` prints for the same input.
+// ("Embedding"); its types are in plancheck/_plancheck.pyi. A batch is
+// checked on all the scene's threads with the GIL released; bad input raises
+// plancheck.Error (a ValueError) with the message `plancheck verify` prints
+// for the same input.
 #include <plancheck/plancheck.h>
 
 #include <pybind11/numpy.h>
@@ -201,7 +203,7 @@ py::list names_of(const R& r, const py::array_t<std::int32_t>& idx) {
 
 }  // namespace
 
-PYBIND11_MODULE(plancheck, m) {
+PYBIND11_MODULE(_plancheck, m) {
   m.doc() = "plancheck: check robot-arm states against a scene with the answers of `plancheck verify`";
   m.attr("__version__") = plancheck::version();
   py::register_exception<plancheck::Error>(m, "Error", PyExc_ValueError);

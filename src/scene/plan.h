@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Plan CSV -> states (contract: README "Plan file").
+// Plan CSV -> states (contract: docs/formats.md "Plan file").
 #pragma once
 
 #include "src/scene/scene.h"
@@ -15,6 +15,10 @@ namespace plancheck {
 // Target tolerance when a plan gives "# target:" without "# tolerance:", in
 // the scene's length_unit (1 cm in a scene in metres).
 inline constexpr double kDefaultTargetTolerance = 0.01;
+
+// A plan's name names its CSV report and its lines: at most this many bytes
+// of UTF-8 text without control characters.
+inline constexpr std::size_t kMaxPlanNameBytes = 200;
 
 struct Plan {
   std::string name;                        // "# name:" or the file stem

@@ -20,6 +20,7 @@
 #include "src/scene/robot_loader.h"
 
 #include "src/base/error.h"
+#include "src/base/files.h"
 #include "src/scene/model_loader.h"
 
 #include <console_bridge/console.h>
@@ -50,9 +51,7 @@ constexpr double kRoundingMargin = 1e-12;
 std::string read_file(const std::filesystem::path& file, const char* what) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec)) fail(file, std::string("cannot open ") + what + " (missing or not a file)");
-  std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file, std::string("cannot open ") + what);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return read_regular_file(file, kMaxSceneFileBytes, what);
 }
 
 // An XML file through tinyxml2: a syntax error names its line.
@@ -143,8 +142,12 @@ std::string percent_decode(const std::string& s) {
 std::string package_name(const std::filesystem::path& package_xml) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(package_xml, ec)) return {};
-  std::ifstream in(package_xml, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text;
+  try {
+    text = read_regular_file(package_xml, kMaxSceneFileBytes, "package.xml");
+  } catch (const InputError&) {
+    return {};  // not one to read: as if it had no name
+  }
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) return {};
   const auto* package = doc.FirstChildElement("package");
@@ -170,7 +173,14 @@ class Resolver {
       const std::string name = rest.substr(0, slash);
       if (name.empty() || slash == std::string::npos)
         fail(spec_.urdf, where + ": mesh '" + uri + "': expected package://NAME/path");
-      path = package_folder(name, uri, where) / percent_decode(rest.substr(slash + 1));
+      // Inside the package's folder: a ".." step (written or percent-encoded)
+      // would reach files the package does not hold.
+      const std::filesystem::path inside = percent_decode(rest.substr(slash + 1));
+      for (const auto& step : inside)
+        if (step == "..")
+          fail(spec_.urdf, where + ": mesh '" + uri + "': a '..' step leaves the package's folder");
+      if (inside.is_absolute()) fail(spec_.urdf, where + ": mesh '" + uri + "': an absolute path after package://NAME/");
+      path = package_folder(name, uri, where) / inside;
     } else if (uri.compare(0, kFile.size(), kFile) == 0) {
       path = percent_decode(uri.substr(kFile.size()));
       if (path.is_relative()) path = folder_ / path;

@@ -6,6 +6,8 @@
 #include "src/scene/scene_loader.h"
 
 #include "src/base/error.h"
+#include "src/base/files.h"
+#include "src/base/text.h"
 #include "src/scene/model_loader.h"
 #include "src/scene/robot_loader.h"
 #include "src/scene/terrain.h"
@@ -126,6 +128,9 @@ Json parse_json(const std::string& text, const std::filesystem::path& file) {
     // Keep nlohmann's reason, drop its own "[json.exception...] parse error at line L, column C: " prefix.
     std::size_t colon = reason.find(": ");
     if (colon != std::string::npos) reason = reason.substr(colon + 2);
+    // nor the text it last read: the file may hold what must not reach a log.
+    const std::size_t echo = reason.find("; last read:");
+    if (echo != std::string::npos) reason.erase(echo);
     fail(file, "invalid JSON: " + reason, line, column);
   } catch (const Json::out_of_range& e) {
     // A number beyond double range ("1e999") stops the parser without a
@@ -518,7 +523,35 @@ bool is_urdf(const std::filesystem::path& file) {
 
 }  // namespace
 
+namespace {
+
+// Names from model and URDF files reach every report (JSON, CSV, pages):
+// they must be UTF-8 text. The scene file's own names are (JSON is).
+void check_names(const Scene& scene) {
+  for (const Node& node : scene.nodes)
+    if (!valid_utf8(node.name))
+      fail(node.robot_link && scene.robot ? scene.robot->urdf : scene.model_file,
+           "node '" + printable(node.path) + "': its name is not valid UTF-8 text");
+  for (const Action& a : scene.actions)
+    if (!valid_utf8(a.name))
+      fail(scene.robot ? scene.robot->urdf : scene.file, "joint '" + printable(a.name) + "': its name is not valid UTF-8 text");
+}
+
+Scene load_scene_unguarded(const std::filesystem::path& scene_json, const SceneOptions& options);
+
+}  // namespace
+
 Scene load_scene(const std::filesystem::path& scene_json, const SceneOptions& options) {
+  try {
+    return load_scene_unguarded(scene_json, options);
+  } catch (const std::bad_alloc&) {
+    fail(scene_json, "out of memory while loading the scene (or its model, robot or terrain)");
+  }
+}
+
+namespace {
+
+Scene load_scene_unguarded(const std::filesystem::path& scene_json, const SceneOptions& options) {
   if (is_urdf(scene_json)) {
     // A robot alone: the URDF's own units, no model, no other blocks.
     Scene scene;
@@ -534,16 +567,16 @@ Scene load_scene(const std::filesystem::path& scene_json, const SceneOptions& op
     spec.packages = options.packages;
     const auto allowed = add_robot(spec, scene);
     if (scene.parts.empty()) fail(scene_json, "the robot has no geometry (no link has a collision element)");
+    check_names(scene);
     resolve_chains(scene);
     resolve_pairs(Reader(scene_json), nullptr, scene, allowed);
     return scene;
   }
   if (!options.srdf.empty()) fail(scene_json, "--srdf is for a bare .urdf; a scene file names its SRDF in robot.srdf");
-  std::ifstream in(scene_json, std::ios::binary);
-  if (!in) fail(scene_json, "cannot open scene file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parse_scene(text, scene_json, options);
+  return parse_scene(read_regular_file(scene_json, kMaxSceneFileBytes, "scene file"), scene_json, options);
 }
+
+}  // namespace
 
 Scene parse_scene(const std::string& text, const std::filesystem::path& scene_json, const SceneOptions& options) {
   Reader r(scene_json);
@@ -593,6 +626,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& scene_js
 
   if (scene.terrain && scene.terrain->collide && scene.find_part(kTerrainName) >= 0)
     r.error("terrain", "the model has a part named 'terrain', which clashes with the terrain block");
+  check_names(scene);
   if (root.contains("actions")) read_actions(r, root["actions"], scene);
   resolve_chains(scene);
   resolve_pairs(r, root.contains("allowed_collisions") ? &root["allowed_collisions"] : nullptr, scene, robot_allowed);

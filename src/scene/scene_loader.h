@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Scene JSON (plancheck-scene/1) + model file -> Scene. See README "Scene file".
+// Scene JSON (plancheck-scene/1) + model file -> Scene. See docs/formats.md "Scene file".
 #pragma once
 
 #include "src/scene/scene.h"

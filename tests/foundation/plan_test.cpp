@@ -167,5 +167,44 @@ TEST_F(PlanTest, RowErrors) {
   expect_error("late.csv", "J1\n1\n# note\n", {"late.csv:3:1"});  // comments only before the header
 }
 
+// RFC 4180 fields: quoted names (commas, doubled quotes, a line break in a
+// quoted header field), quoted numbers, blanks around quotes.
+TEST_F(PlanTest, QuotedFieldsAsRfc4180) {
+  const Plan p = load_plan(scene_, dir_.write("q.csv", "\"J1\", \"Slide.x\" ,J2\n\"10\",2, 3\n"));
+  ASSERT_EQ(p.states.size(), 1u);
+  EXPECT_EQ(p.states[0][0], 10.0);
+  EXPECT_EQ(p.states[0][2], 2.0);  // J1, J2, Slide.x, ...: Slide.x is the third parameter
+  EXPECT_EQ(p.states[0][1], 3.0);
+  expect_error("open.csv", "\"J1\n0\n", {"open.csv:1", "quoted field is not closed"});
+  expect_error("after.csv", "\"J1\"x,J2\n0,0\n", {"after.csv:1:1", "text after a closing quote"});
+  // A line break inside a quoted field keeps the record going: one unknown column, named.
+  expect_error("multi.csv", "J1,\"a\nb\"\n0,0\n", {"multi.csv:1:2", "unknown column 'a\nb'"});
+  // A state row's line numbers stay the file's.
+  const Plan m = load_plan(scene_, dir_.write("m.csv", "J1,\"J2\"\n1,\"2\"\n\n3,4\n"));
+  EXPECT_EQ(m.lines, (std::vector<long>{2, 4}));
+}
+
+// Below double's range a number is its nearest double, as in the scene file
+// and strtod; above it, an error that says so.
+TEST_F(PlanTest, NumbersBelowAndAboveTheRangeOfADouble) {
+  const Plan p = load_plan(scene_, dir_.write("tiny.csv", "J1,J2\n1e-400,-1e-330\n"));
+  EXPECT_EQ(p.states[0][0], 0.0);
+  EXPECT_EQ(p.states[0][1], 0.0);
+  const Plan sub = load_plan(scene_, dir_.write("sub.csv", "J1\n4e-320\n"));
+  EXPECT_EQ(sub.states[0][0], 4e-320);
+  expect_error("huge.csv", "J1\n1e400\n", {"huge.csv:2:1", "'1e400' is not a finite number (beyond the range of a double)"});
+  expect_error("nan.csv", "J1\nnan\n", {"nan.csv:2:1", "is not a finite number"});
+}
+
+// A plan's name names its report file and lines: text, one line, bounded.
+TEST_F(PlanTest, NamesAreShortUtf8TextOnOneLine) {
+  expect_error("long.csv", "# name: " + std::string(kMaxPlanNameBytes + 1, 'n') + "\nJ1\n0\n", {"long.csv:1", "name", "longer than"});
+  expect_error("bin.csv", "# name: a\x01b\nJ1\n0\n", {"bin.csv:1", "control character"});
+  expect_error("utf.csv", "# name: caf\xe9\nJ1\n0\n", {"utf.csv:1", "not valid UTF-8"});
+  EXPECT_EQ(load_plan(scene_, dir_.write("ok.csv", "# name: 着陆 plan\nJ1\n0\n")).name, "着陆 plan");
+  EXPECT_EQ(load_plan(scene_, dir_.write("max.csv", "# name: " + std::string(kMaxPlanNameBytes, 'n') + "\nJ1\n0\n")).name.size(),
+            kMaxPlanNameBytes);
+}
+
 }  // namespace
 }  // namespace plancheck

@@ -77,18 +77,25 @@ std::filesystem::path write_scene() {
 std::size_t plan_rows(std::string_view text) {
   if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
   bool header = false;
+  bool quoted = false;  // inside a quoted field: the line goes on the record before it
   std::size_t rows = 0;
   while (!text.empty()) {
     const std::size_t nl = text.find('\n');
     std::string_view line = text.substr(0, nl);
     text.remove_prefix(nl == std::string_view::npos ? text.size() : nl + 1);
+    const bool continued = quoted;
     while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
     while (!line.empty() && (line.back() == ' ' || line.back() == '\t' || line.back() == '\r')) line.remove_suffix(1);
+    if (!header && !continued && (line.empty() || line.front() == '#')) continue;  // comments before the header
+    if (!continued && line.empty()) continue;
+    for (char c : line)
+      if (c == '"') quoted = !quoted;
+    if (continued) continue;
     if (!header) {
-      header = !line.empty() && line.front() != '#';
+      header = true;
       continue;
     }
-    if (!line.empty()) ++rows;
+    ++rows;
   }
   return rows;
 }

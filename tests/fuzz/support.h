@@ -25,7 +25,7 @@ void write_file(const std::filesystem::path& file, std::string_view bytes);
 // Returns the path of scene.json.
 std::filesystem::path write_scene();
 
-// The data rows of a plan CSV counted by the contract (README "Plan file")
+// The data rows of a plan CSV counted by the contract (docs/formats.md "Plan file")
 // without the loader: after an optional UTF-8 byte order mark, lines before
 // the header that are blank or start with '#' are skipped, the first other
 // line is the header, and every later line that is not blank is a row.

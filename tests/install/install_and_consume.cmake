@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: MIT
-# cmake -DBUILD=... -DWORK=... -DCONSUMER=... -DVERSION=X.Y -DGENERATOR=... -DCXX=... -P install_and_consume.cmake
+# cmake -DBUILD=... -DWORK=... -DCONSUMER=... -DVERSION=X.Y -DGENERATOR=... -DCXX=...
+#       [-DPYTHON=python3 -DPYTHON_DIR=lib/python3/dist-packages] -P install_and_consume.cmake
 # Installs BUILD into WORK/prefix, checks what was installed, then builds and
-# runs the consumer project against it. Fails on the first thing wrong.
+# runs the consumer project against it, and with PYTHON imports the Python
+# package from PREFIX/PYTHON_DIR. Fails on the first thing wrong.
 function(run)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
@@ -67,6 +69,27 @@ endif()
 execute_process(COMMAND ${build}/consumer ${scene}/missing.json RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 2 OR NOT err MATCHES "^plancheck: .*missing.json")
   message(FATAL_ERROR "consumer on a missing scene: status ${rc}, stderr '${err}'")
+endif()
+
+# The Python package under the prefix: imported from there (not the build
+# folder), carrying its stubs, and giving the consumer's answers.
+if(PYTHON)
+  set(site ${prefix}/${PYTHON_DIR})
+  foreach(f __init__.py _plancheck.pyi py.typed)
+    if(NOT EXISTS ${site}/plancheck/${f})
+      message(FATAL_ERROR "cmake --install did not install ${site}/plancheck/${f}")
+    endif()
+  endforeach()
+  execute_process(COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${site} ${PYTHON} -c [=[
+import pathlib, sys, plancheck
+where = pathlib.Path(plancheck.__file__).resolve()
+assert where.is_relative_to(pathlib.Path(sys.argv[1]).resolve()), where
+r = plancheck.Scene(sys.argv[2], threads=1).check([[0], [45]])
+print(r.verdict.tolist(), "%.12g" % r.min_distance[0], r.part_a_names[1], r.part_b_names[1])
+]=] ${site} ${scene}/scene.json RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT out STREQUAL "[0, 2] 0.875 Bar Slab\n")
+    message(FATAL_ERROR "the installed Python package under ${site}: status ${rc}, printed '${out}'\n${err}")
+  endif()
 endif()
 
 # find_package checks the version: the next minor version is refused (0.y).

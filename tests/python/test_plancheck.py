@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: MIT
-"""The Python module `plancheck` gives `plancheck verify`'s per-state answers.
+"""The Python package `plancheck` gives `plancheck verify`'s per-state answers.
 
-Run by ctest (tests/python/CMakeLists.txt) with PYTHONPATH=build/python and
-PLANCHECK_BINARY_DIR set; every answer is compared with the CSV rows and the
-report.json verdicts that verify writes for the same states.
+Run by ctest (tests/python/CMakeLists.txt) with the python of a venv the
+package was pip-installed into (python.install) and PLANCHECK_BINARY_DIR
+set; every answer is compared with the CSV rows and the report.json
+verdicts that verify writes for the same states. PackageTest checks the
+installed package itself: where it is, NumPy missing, its types.
 """
 import csv
 import json
@@ -11,6 +13,7 @@ import math
 import os
 import pathlib
 import subprocess
+import sys
 import tempfile
 import threading
 import unittest
@@ -97,6 +100,51 @@ def expect_rows(test, result, rows, where, tie_points=False):
 def read_rows(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+class PackageTest(unittest.TestCase):
+    def test_imported_from_the_venv(self):
+        """The installed package, not the source tree or build/python."""
+        self.assertNotEqual(sys.prefix, sys.base_prefix, "not run in a venv")
+        where = pathlib.Path(plancheck.__file__).resolve()
+        self.assertTrue(where.is_relative_to(pathlib.Path(sys.prefix).resolve()), where)
+        for f in ("_plancheck.pyi", "py.typed"):
+            self.assertTrue((where.parent / f).is_file(), f)
+        self.assertEqual(repr(plancheck.Error), "<class 'plancheck.Error'>")
+
+    def test_without_numpy_import_fails_at_once(self):
+        """With no site packages (python -S) NumPy is really missing while the
+        installed package is on the path: import raises, saying what is missing."""
+        site = str(pathlib.Path(plancheck.__file__).parent.parent)
+        run = lambda code: subprocess.run([sys.executable, "-S", "-c", "import sys; sys.path.insert(0, %r); %s" % (site, code)],
+                                          capture_output=True, text=True)
+        self.assertIn("No module named 'numpy'", run("import numpy").stderr)
+        p = run("import plancheck")
+        self.assertNotEqual(p.returncode, 0)
+        self.assertIn("ImportError: plancheck needs NumPy, which %s cannot import" % sys.executable, p.stderr)
+        self.assertIn("apt-get install python3-numpy", p.stderr)
+
+    def test_types_seen_by_mypy_strict(self):
+        """mypy --strict (one run, both files): typed_example.py is clean; each
+        line of typed_wrong.py marked `# wrong` is flagged, and no other."""
+        p = subprocess.run([sys.executable, "-m", "mypy", "--strict", "--no-error-summary",
+                            "typed_example.py", "typed_wrong.py"],
+                           capture_output=True, text=True, cwd=pathlib.Path(__file__).parent)
+        self.assertEqual(p.returncode, 1, p.stdout + p.stderr)
+        errors = [line for line in p.stdout.splitlines() if ": error:" in line]
+        self.assertEqual([e for e in errors if not e.startswith("typed_wrong.py:")], [], p.stdout)
+        wrong = pathlib.Path(__file__).with_name("typed_wrong.py").read_text().splitlines()
+        expected = [i + 1 for i, line in enumerate(wrong) if line.rstrip().endswith("# wrong")]
+        flagged = sorted(set(int(e.split(":")[1]) for e in errors))
+        self.assertEqual(flagged, expected, p.stdout)
+
+    def test_stubs_match_the_module(self):
+        """mypy.stubtest: every name and signature of _plancheck.pyi against the built module."""
+        allowlist = pathlib.Path(__file__).with_name("stubtest_allowlist.txt")
+        with tempfile.TemporaryDirectory() as tmp:  # stubtest writes .mypy_cache where it runs
+            p = subprocess.run([sys.executable, "-m", "mypy.stubtest", "plancheck", "--allowlist", str(allowlist)],
+                               capture_output=True, text=True, cwd=tmp)
+        self.assertEqual(p.returncode, 0, p.stdout + p.stderr)
 
 
 class ModuleTest(unittest.TestCase):

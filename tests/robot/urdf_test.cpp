@@ -517,6 +517,31 @@ TEST(RobotErrors, PlanColumnNamingNoMovableJoint) {
   }
 }
 
+TEST(RobotErrors, PlanColumnNamingAMimicJointSaysSo) {
+  TempDir dir;
+  const Scene s = load_arm();
+  const fs::path plan = dir.write("p.csv", "elbow,finger_right\n0,0\n");
+  expect_input_error([&] { load_plan(s, plan); },
+                     {"p.csv:1:2", "'finger_right' names a mimic joint", "follows joint 'finger_left'"});
+}
+
+// package://NAME/.. would reach files beside the package, not in it.
+TEST(RobotErrors, PackagePathsStayInsideThePackage) {
+  TempDir dir;
+  fs::create_directories(dir / "pkg/meshes");
+  write_text(dir / "pkg/package.xml", "<package><name>pkg</name></package>");
+  fs::copy_file(kPackage / "meshes/upper.stl", dir / "outside.stl");
+  fs::copy_file(kPackage / "meshes/upper.stl", dir / "pkg/meshes/inside.stl");
+  const std::string head = R"(<robot name="m"><link name="a"><collision><geometry><mesh filename=")";
+  const std::string tail = R"("/></geometry></collision></link></robot>)";
+  EXPECT_EQ(load_scene(dir.write("pkg/ok.urdf", head + "package://pkg/meshes/inside.stl" + tail)).parts.size(), 1u);
+  for (const char* uri : {"package://pkg/../outside.stl", "package://pkg/meshes/../../outside.stl",
+                          "package://pkg/%2e%2e/outside.stl"}) {
+    const fs::path u = dir.write("pkg/up.urdf", head + uri + tail);
+    expect_input_error([&] { load_scene(u); }, {"up.urdf", "link 'a'", "leaves the package's folder"});
+  }
+}
+
 TEST(RobotErrors, SrdfNamingAnUnknownLink) {
   TempDir dir;
   SceneOptions o;
@@ -551,6 +576,23 @@ TEST(RobotCli, VerifyAndSceneOnABareUrdf) {
             std::string::npos) << out;
 }
 
+// Options stand anywhere among the arguments: --package takes one value, so
+// the plan after it stays a plan.
+TEST(RobotCli, OptionsBeforeAndBetweenThePositionalArguments) {
+  TempDir dir;
+  const fs::path safe = dir.write("safe.csv", "elbow\n0\n0.5\n");
+  const std::string out = " --out " + (dir / "out").string();
+  const std::string plancheck = kPlancheck.string() + " verify " + kUrdf.string();
+  EXPECT_EQ(run_command(plancheck + " --srdf " + kSrdf.string() + " --package arm_description=" + kPackage.string() +
+                        " " + safe.string() + out + " > /dev/null 2>&1"),
+            0);
+  EXPECT_EQ(run_command(plancheck + " --package arm_description=" + kPackage.string() + " --package other=" +
+                        dir.path().string() + " " + safe.string() + " --srdf " + kSrdf.string() + out +
+                        " > /dev/null 2>&1"),
+            0);
+  EXPECT_TRUE(fs::exists(dir / "out/safe.csv"));
+}
+
 // Links in contact at the zero pose come out as lines to paste into an SRDF.
 TEST(RobotCli, SceneListsContactsAsDisableCollisions) {
   TempDir dir;
@@ -568,6 +610,15 @@ TEST(RobotCli, SceneListsContactsAsDisableCollisions) {
   EXPECT_NE(out.find("<disable_collisions link1=\"a\" link2=\"b\" reason=\"Adjacent\"/>"), std::string::npos) << out;
   EXPECT_NE(out.find("<disable_collisions link1=\"a\" link2=\"c\" reason=\"Default\"/>"), std::string::npos) << out;
   EXPECT_EQ(out.find("link1=\"b\" link2=\"c\""), std::string::npos) << out;
+
+  // Names that XML must escape come out escaped, ready to paste.
+  std::string text = read_text(u);
+  for (std::size_t at; (at = text.find("\"a\"")) != std::string::npos;) text.replace(at, 3, "\"a&amp;&quot;x&lt;\"");
+  const fs::path v = dir.write("touch2.urdf", text);
+  ASSERT_EQ(run_command(kPlancheck.string() + " scene " + v.string() + " > " + (dir / "o2.txt").string()), 0);
+  const std::string escaped = read_text(dir / "o2.txt");
+  EXPECT_NE(escaped.find("<disable_collisions link1=\"a&amp;&quot;x&lt;\" link2=\"b\" reason=\"Adjacent\"/>"),
+            std::string::npos) << escaped;
 }
 
 }  // namespace
