@@ -13,6 +13,9 @@ packages=(
   python3-venv python3-pip python3-setuptools python3-wheel python3-build python3-pybind11 mypy
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libcgal-dev
+  # OMPL for <plancheck/ompl.h>'s example and bench; Debian's omplConfig.cmake
+  # names libboost_filesystem.so, which libompl-dev does not pull in.
+  libompl-dev libboost-filesystem-dev
   assimp-testmodels dart-doc
   clang libclang-rt-14-dev
   chromium

@@ -9,6 +9,7 @@
 #include "src/base/error.h"
 #include "src/base/parallel.h"
 #include "src/scene/scene_loader.h"
+#include "src/checks/continuous.h"
 #include "src/checks/verify.h"
 
 namespace plancheck_core {
@@ -26,6 +27,9 @@ using ::plancheck::state_verdict;
 using ::plancheck::row_request;
 using ::plancheck::verdict_only_request;
 using CheckRequest = ::plancheck::CheckRequest;
+using SegmentChecker = ::plancheck::SegmentChecker;
+using SegmentResult = ::plancheck::SegmentResult;
+using ContinuousOptions = ::plancheck::ContinuousOptions;
 }  // namespace plancheck_core
 
 #include "src/api/plancheck/plancheck.h"
@@ -51,6 +55,7 @@ struct SceneData {
 struct CheckerData {
   std::shared_ptr<const SceneData> scene;  // the core checker refers to it
   std::unique_ptr<const plancheck_core::Checker> checker;
+  std::unique_ptr<const plancheck_core::SegmentChecker> segments;  // verify --continuous's defaults
   std::vector<std::string> part_names;
   int threads = 1;
 };
@@ -135,6 +140,49 @@ void check_one(const detail::CheckerData& d, const std::vector<double>& params, 
   out.verdict = public_verdict(plancheck_core::state_verdict(st, scene.safety_margin));
 }
 
+// One motion, as verify --continuous ranks a two-state plan of it
+// (src/checks/plan_check.cpp, verify_segments): state 0's own violation,
+// then the segment's, then state 1's.
+void motion_one(const detail::CheckerData& d, const std::vector<double>& from, const std::vector<double>& to,
+                MotionResult& out, const MotionOptions& options) {
+  plancheck_core::StateResult sa, sb;
+  const plancheck_core::SegmentResult g = d.segments->check_motion(from, to, options.verdict_only, sa, sb);
+  const plancheck_core::Scene& scene = d.scene->scene;
+  const double unit = scene.length_scale;
+  out = MotionResult{};
+  out.collision = g.collision;
+  out.min_distance = g.lower_bound / unit;
+  out.certified = !g.unresolved;
+  out.steps = g.steps;
+  int a = -1, b = -1;
+  const Verdict v0 = public_verdict(plancheck_core::state_verdict(sa, scene.safety_margin));
+  if (v0 != Verdict::kSafe) {
+    out.verdict = v0;
+    out.t = 0.0;
+    if (v0 == Verdict::kCollision) {
+      a = sa.contacts[0].part_a;
+      b = sa.contacts[0].part_b;
+    } else if (v0 == Verdict::kClearance) {
+      a = sa.part_a;
+      b = sa.part_b;
+    }
+  } else if (g.collision || g.clearance) {
+    out.verdict = g.collision ? Verdict::kCollision : Verdict::kClearance;
+    if (g.witness_t >= 0.0) out.t = g.witness_t;
+    a = g.part_a;
+    b = g.part_b;
+  } else {
+    out.verdict = public_verdict(plancheck_core::state_verdict(sb, scene.safety_margin));
+    if (out.verdict != Verdict::kSafe) out.t = 1.0;
+  }
+  if (a >= 0) {
+    out.part_a_index = a;
+    out.part_b_index = b;
+    out.part_a = d.part_names[static_cast<std::size_t>(a)];
+    out.part_b = d.part_names[static_cast<std::size_t>(b)];
+  }
+}
+
 }  // namespace
 
 const char* version() noexcept { return PLANCHECK_VERSION; }
@@ -197,6 +245,8 @@ Checker::Checker(const Scene& scene, int threads) {
     d->scene = scene.data_;
     d->threads = threads > 0 ? threads : plancheck_core::hardware_threads();
     d->checker = std::make_unique<const plancheck_core::Checker>(d->scene->scene, d->threads);
+    d->segments = std::make_unique<const plancheck_core::SegmentChecker>(*d->checker, d->scene->scene,
+                                                                          plancheck_core::ContinuousOptions{});
     for (std::size_t i = 0; i < d->checker->part_count(); ++i) d->part_names.push_back(d->checker->part_name(static_cast<int>(i)));
     return std::shared_ptr<const detail::CheckerData>(std::move(d));
   });
@@ -249,6 +299,59 @@ void Checker::check_batch(const double* states, std::size_t count, StateResult* 
     });
   });
 }
+
+MotionResult Checker::check_motion(const std::vector<double>& from, const std::vector<double>& to,
+                                   const MotionOptions& options) const {
+  validate(*data_->scene, from.data(), from.size(), "from");
+  validate(*data_->scene, to.data(), to.size(), "to");
+  MotionResult out;
+  translated([&] { motion_one(*data_, from, to, out, options); });
+  return out;
+}
+
+std::vector<MotionResult> Checker::check_motion_batch(const std::vector<std::vector<double>>& from,
+                                                      const std::vector<std::vector<double>>& to,
+                                                      const MotionOptions& options) const {
+  if (from.size() != to.size())
+    throw Error("motions: " + std::to_string(from.size()) + " start states but " + std::to_string(to.size()) +
+                " end states");
+  const std::size_t n = parameter_count();
+  std::vector<double> a, b;
+  a.reserve(from.size() * n);
+  b.reserve(to.size() * n);
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    validate(*data_->scene, from[i].data(), from[i].size(), "from " + std::to_string(i));
+    validate(*data_->scene, to[i].data(), to[i].size(), "to " + std::to_string(i));
+    a.insert(a.end(), from[i].begin(), from[i].end());
+    b.insert(b.end(), to[i].begin(), to[i].end());
+  }
+  std::vector<MotionResult> out(from.size());
+  check_motion_batch(a.data(), b.data(), from.size(), out.data(), options);
+  return out;
+}
+
+void Checker::check_motion_batch(const double* from, const double* to, std::size_t count, MotionResult* out,
+                                 const MotionOptions& options) const {
+  const std::size_t n = parameter_count();
+  for (std::size_t i = 0; i < count; ++i) {
+    validate(*data_->scene, from + i * n, n, "from " + std::to_string(i));
+    validate(*data_->scene, to + i * n, n, "to " + std::to_string(i));
+  }
+  // Motions are independent: out[i] is check_motion(i) whatever the thread
+  // count. One motion per chunk: a motion costs from one to thousands of checks.
+  translated([&] {
+    plancheck_core::parallel_for(count, data_->threads, 1, [&](std::size_t begin, std::size_t end, int) {
+      std::vector<double> a(n), b(n);
+      for (std::size_t i = begin; i < end; ++i) {
+        a.assign(from + i * n, from + (i + 1) * n);
+        b.assign(to + i * n, to + (i + 1) * n);
+        motion_one(*data_, a, b, out[i], options);
+      }
+    });
+  });
+}
+
+Scene Checker::scene() const { return Scene(data_->scene); }
 
 const std::vector<std::string>& Checker::part_names() const { return data_->part_names; }
 std::size_t Checker::parameter_count() const { return data_->scene->scene.parameter_names.size(); }

@@ -31,6 +31,7 @@ struct Sample {
   bool collision = false;
   int a = -1, b = -1;  // pair at d (or the first contact)
   double tolerance = kDistanceTolerance;  // the state's rounding guard (StateResult::distance_tolerance)
+  bool bound = false;  // d is only a certified lower bound (a verdict-only check)
 };
 
 Sample to_sample(double t, const StateResult& s) {
@@ -38,6 +39,7 @@ Sample to_sample(double t, const StateResult& s) {
   out.t = t;
   out.collision = s.collision;
   out.tolerance = s.distance_tolerance;
+  out.bound = s.distance_is_bound;
   out.d = s.collision ? 0.0 : s.min_distance;
   if (s.collision) {
     out.a = s.contacts[0].part_a;
@@ -75,6 +77,31 @@ double SegmentChecker::pair_bound(const std::vector<double>& qa, const std::vect
 SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::vector<double>& qb,
                                     const StateResult& sa, const StateResult& sb, const Heightfield* terrain,
                                     bool sb_on_terrain) const {
+  return run(qa, qb, sa, sb, terrain, sb_on_terrain, false);
+}
+
+double SegmentChecker::first_limit() const {
+  return margin_ > 0.0 ? margin_ + options_.tolerance : options_.contact_tolerance;
+}
+
+SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const std::vector<double>& qb,
+                                           bool verdict_only, StateResult& sa, StateResult& sb) const {
+  CheckRequest request = row_request();
+  if (verdict_only) {
+    // Ends exact up to half the segment's motion beyond the first pass's
+    // limit: two ends that far clear certify the whole segment at once.
+    const double m = pair_bound(qa, qb);
+    request.exact_below = first_limit() + 0.5 * m;
+    if (!(request.exact_below < std::numeric_limits<double>::infinity())) request.exact_below = std::numeric_limits<double>::infinity();
+  }
+  checker_.check_state(qa, sa, request);
+  checker_.check_state(qb, sb, request);
+  return run(qa, qb, sa, sb, nullptr, false, verdict_only);
+}
+
+SegmentResult SegmentChecker::run(const std::vector<double>& qa, const std::vector<double>& qb,
+                                  const StateResult& sa, const StateResult& sb, const Heightfield* terrain,
+                                  bool sb_on_terrain, bool verdict_only) const {
   SegmentResult out;
   out.checked = true;
   std::map<double, Sample> samples;  // by t; dyadic midpoints repeat exactly between stages
@@ -83,64 +110,103 @@ SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::ve
   std::vector<double> q, q2;
   StateResult r;
   bool gave_up = false;
+  verdict_only = verdict_only && !terrain;  // the dug terrain's pairs are always exact
 
   // One exact check of a configuration into r: the state's semantics on
-  // the segment's terrain.
-  auto exact = [&](const std::vector<double>& at) {
+  // the segment's terrain; distances exact below exact_below (verdict-only
+  // samples), a certified bound beyond it.
+  auto exact = [&](const std::vector<double>& at, double exact_below) {
+    CheckRequest request = row_request();
+    if (verdict_only) request.exact_below = exact_below;
     if (terrain) {
-      checker_.check_state_without_terrain(at, r, CheckRequest{}, &seed);
+      checker_.check_state_without_terrain(at, r, request, &seed);
       checker_.check_terrain(at, *terrain, r, &terrain_seed);
     } else {
-      checker_.check_state(at, r, CheckRequest{}, &seed);
+      checker_.check_state(at, r, request, &seed);
     }
     ++out.steps;
+  };
+  auto point = [&](double t, std::vector<double>& at) -> const std::vector<double>& {
+    if (t == 0.0) return qa;
+    if (t == 1.0) return qb;
+    state_between(qa, qb, t, at);
+    return at;
   };
   samples[0.0] = to_sample(0.0, sa);
   if (terrain && !sb_on_terrain) {
     // sb shows qb after its own dig; the motion meets the terrain before it.
-    exact(qb);
+    exact(qb, std::numeric_limits<double>::infinity());
     samples[1.0] = to_sample(1.0, r);
   } else {
     samples[1.0] = to_sample(1.0, sb);
   }
 
-  auto sample_at = [&](double t) -> const Sample& {
+  auto sample_at = [&](double t, double exact_below) -> Sample& {
     auto it = samples.find(t);
     if (it != samples.end()) return it->second;
-    state_between(qa, qb, t, q);
-    exact(q);
+    exact(point(t, q), exact_below);
     return samples.emplace(t, to_sample(t, r)).first->second;
+  };
+  // A verdict-only sample whose bound cannot decide a step: checked again
+  // exactly, so every step decides as the full check's does.
+  auto make_exact = [&](Sample& s) {
+    if (!s.bound) return;
+    exact(point(s.t, q), std::numeric_limits<double>::infinity());
+    s = to_sample(s.t, r);
   };
 
   // One certification pass against `target`: returns the first witness
   // found (left to right, ends first), or nothing when every sub-interval's
   // bound exceeds the target by the ends' rounding guard (the one a state's
-  // margin test uses); `lower` gets the least certified bound.
-  auto certify = [&](double target, auto is_witness, double& lower) -> std::optional<Sample> {
+  // margin test uses), or when the step budget runs out (gave_up); `lower`
+  // gets the least certified bound. A witness lies below `limit` (and
+  // touches, for contact).
+  auto certify = [&](double target, double limit, bool contact, double& lower) -> std::optional<Sample> {
+    auto is_witness = [&](Sample& s) {
+      if (s.bound && s.d < limit) make_exact(s);
+      return (contact && s.collision) || s.d < limit;
+    };
     for (double t : {0.0, 1.0})
       if (is_witness(samples.at(t))) return samples.at(t);
+    auto interval_bound = [&](double ta, double tb, double& m) {
+      const Sample& a = samples.at(ta);
+      const Sample& b = samples.at(tb);
+      m = pair_bound(point(ta, q), point(tb, q2));
+      return std::min({a.d, b.d, 0.5 * (a.d + b.d - m)});
+    };
+    auto guard = [&](double ta, double tb) { return std::max(samples.at(ta).tolerance, samples.at(tb).tolerance); };
     std::vector<std::pair<double, double>> stack{{0.0, 1.0}};
     while (!stack.empty()) {
       const auto [ta, tb] = stack.back();
       stack.pop_back();
-      const Sample& a = samples.at(ta);
-      const Sample& b = samples.at(tb);
-      state_between(qa, qb, ta, q);
-      state_between(qa, qb, tb, q2);
-      const double m = pair_bound(q, q2);
-      const double lb = std::min({a.d, b.d, 0.5 * (a.d + b.d - m)});
-      if (lb >= target + std::max(a.tolerance, b.tolerance)) {
+      double m = 0.0;
+      double lb = interval_bound(ta, tb, m);
+      if (!(lb >= target + guard(ta, tb)) && (samples.at(ta).bound || samples.at(tb).bound)) {
+        make_exact(samples.at(ta));
+        make_exact(samples.at(tb));
+        lb = interval_bound(ta, tb, m);
+      }
+      if (lb >= target + guard(ta, tb)) {
         lower = std::min(lower, lb);
         continue;
       }
       const double tm = 0.5 * (ta + tb);
       if (out.steps >= options_.max_steps || !(tm > ta && tm < tb)) {
-        // Cannot be settled: a violation, never a false safe.
+        // Cannot be settled: a violation without a witness, never a false
+        // safe. What is left unsettled is bounded as it stands.
         gave_up = true;
-        lower = std::min(lower, std::isfinite(lb) ? std::max(lb, 0.0) : 0.0);
-        return a;
+        stack.emplace_back(ta, tb);
+        for (const auto& [ua, ub] : stack) {
+          double mu = 0.0;
+          const double b = interval_bound(ua, ub, mu);
+          lower = std::min(lower, std::isfinite(b) ? std::max(b, 0.0) : 0.0);
+        }
+        return std::nullopt;
       }
-      const Sample& mid = sample_at(tm);
+      // The midpoint exact up to where it would certify either half (motion
+      // bound about m / 2) beside an end that is no witness: beyond it, its
+      // bound decides them; a half whose bound is larger makes it exact.
+      Sample& mid = sample_at(tm, std::max(target, limit) + 0.5 * m);
       if (is_witness(mid)) return mid;
       stack.emplace_back(tm, tb);
       stack.emplace_back(ta, tm);
@@ -152,8 +218,7 @@ SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::ve
   double lower = std::numeric_limits<double>::infinity();
   bool check_contact = true;
   if (margin_ > 0.0) {
-    const double limit = margin_ + options_.tolerance;
-    witness = certify(margin_, [&](const Sample& s) { return s.d < limit; }, lower);
+    witness = certify(margin_, margin_ + options_.tolerance, false, lower);
     check_contact = witness.has_value();
     if (witness) {
       out.clearance = true;
@@ -162,11 +227,10 @@ SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::ve
       out.part_b = witness->b;
     }
   }
-  if (check_contact) {
+  if (check_contact && !gave_up) {
     // Touching anywhere on the segment, or within contact_tolerance of it?
     lower = std::numeric_limits<double>::infinity();
-    const double limit = options_.contact_tolerance;
-    const auto contact = certify(0.0, [&](const Sample& s) { return s.collision || s.d < limit; }, lower);
+    const auto contact = certify(0.0, options_.contact_tolerance, true, lower);
     if (contact) {
       out.collision = true;
       out.clearance = margin_ > 0.0;
@@ -176,10 +240,16 @@ SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::ve
       lower = 0.0;
     }
   }
+  if (gave_up && !out.clearance && !out.collision) {
+    // Not certified: a violation (counted as clearance), naming no pair.
+    out.clearance = true;
+    out.part_a = out.part_b = -1;
+    out.witness_t = -1.0;
+  }
   out.lower_bound = lower;
   out.unresolved = gave_up;
   for (const auto& [t, s] : samples) {
-    if (!(s.d < out.min_sampled)) continue;
+    if (s.bound || !(s.d < out.min_sampled)) continue;
     out.min_sampled = s.d;
     if (!out.clearance && !out.collision) {
       out.part_a = s.a;

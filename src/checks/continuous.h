@@ -38,8 +38,11 @@ struct ContinuousOptions {
   // Contact tolerance (m): a configuration closer than this, where no exact
   // intersection was found, is reported as a collision. Must exceed kDistanceTolerance.
   double contact_tolerance = 1e-7;
-  // Exact checks per segment before it is given up on and reported as a
-  // violation (unresolved, conservative): a guard against pathological input.
+  // Exact checks per segment before it is given up on: the segment is then
+  // a violation without a witness (SegmentResult::unresolved: "not
+  // certified", a clearance violation naming no pair, never a contact).
+  // The bound needs about one check per (clearance - margin) / reach
+  // radians of a joint: motions of thousands of turns.
   std::size_t max_steps = 200000;
   int threads = 0;  // 0: all hardware threads
   // Digging scenes: as VerifyOptions::dig_carry of the verify_plans run
@@ -68,6 +71,16 @@ class SegmentChecker {
                       const StateResult& sb, const Heightfield* terrain = nullptr,
                       bool sb_on_terrain = false) const;
 
+  // One segment on its own, on the scene's initial terrain (the API's
+  // check_motion): checks its end states too, into sa and sb. verdict_only:
+  // the same verdict, witness and pair (the bisection takes the same steps:
+  // a bound that cannot decide a step is made exact first), with exact
+  // distances only where they decide something; sa, sb and lower_bound may
+  // then be certified bounds (StateResult::distance_is_bound) and
+  // min_sampled counts only exact samples. Thread-safe.
+  SegmentResult check_motion(const std::vector<double>& qa, const std::vector<double>& qb, bool verdict_only,
+                             StateResult& sa, StateResult& sb) const;
+
   // Upper bound (m) on how much any checked pair's distance can change while
   // the parameters go linearly from qa to qb: the largest sum of the two
   // parts' motion bounds over the checked pairs.
@@ -76,6 +89,11 @@ class SegmentChecker {
   const ContinuousOptions& options() const { return options_; }
 
  private:
+  SegmentResult run(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
+                    const StateResult& sb, const Heightfield* terrain, bool sb_on_terrain, bool verdict_only) const;
+  // The distance a violation witness lies below: the first pass's.
+  double first_limit() const;
+
   const Checker& checker_;
   MotionBound bound_;
   std::vector<std::pair<int, int>> pairs_;

@@ -490,6 +490,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // that can is settled by an exact distance as in the full check.
   const bool verdict_only = request.distance && std::isfinite(request.exact_below);
   double cutoff = std::numeric_limits<double>::infinity();
+  double largest_guard = kDistanceTolerance;
   if (verdict_only) {
     // The largest pair guard: that of the largest magnitude of any part in a
     // checked pair (parts once each, not pairs). The static parts' and the
@@ -499,6 +500,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     double m = static_magnitude_;
     for (int i : moving_guard_parts_) m = std::max(m, pair_magnitude(i));
     const double g = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() * m);
+    largest_guard = g;
     cutoff = request.exact_below + 4.0 * g + kDistanceTieTolerance;
   }
   // Where the distance search starts: only pairs whose lower bound is under
@@ -783,6 +785,9 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     // below any exact distance found: the state's minimum is only bounded.
     out.min_distance = beyond;
     out.distance_is_bound = true;
+    // The guard of a margin comparison on the bound: that of any pair it
+    // may stand for (the motion checks compare bounds with their targets).
+    out.distance_tolerance = largest_guard;
     out.part_a = out.part_b = -1;
     out.point_a = out.point_b = Vec3::Zero();
   }

@@ -62,7 +62,8 @@ struct StateResult {
   // kDistanceTolerance, or more for coordinates so large that the double
   // distance's error bound (16 eps times the largest coordinate, see
   // tests/stability) exceeds it: 64 eps times the largest coordinate of the
-  // closest pair's boxes, in the world and in their own frames.
+  // closest pair's boxes, in the world and in their own frames; for a
+  // distance_is_bound state, the largest such guard of any checked pair.
   double distance_tolerance = kDistanceTolerance;
   // true when min_distance is only a certified lower bound (a verdict-only
   // check, CheckRequest::exact_below, proved every pair beyond the margin

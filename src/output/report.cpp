@@ -32,6 +32,12 @@ std::string pair_text(const Checker& c, int a, int b) {
   return printable(c.part_name(a)) + " / " + printable(c.part_name(b));
 }
 
+// A violation between states that is only the step budget running out
+// (SegmentResult::unresolved, no witness): no pair was found closer.
+bool uncertified(const PlanResult& r, const Violation& v) {
+  return v.between && v.part_a < 0 && v.state < r.segments.size() && r.segments[v.state].unresolved;
+}
+
 std::string violation_text(const Checker& checker, const Scene& scene, const PlanResult& r) {
   if (!r.first_violation) return "none";
   const Violation& v = *r.first_violation;
@@ -40,6 +46,9 @@ std::string violation_text(const Checker& checker, const Scene& scene, const Pla
                              : " at state " + std::to_string(v.state));
   if (v.part_a >= 0) s += " (" + pair_text(checker, v.part_a, v.part_b) + ")";
   if (v.action >= 0) s += " (" + printable(scene.actions[static_cast<std::size_t>(v.action)].name) + ")";
+  if (uncertified(r, v))
+    s += " (not certified: the motion needs more than " + std::to_string(r.segments[v.state].steps) +
+         " exact checks)";
   if (v.kind == Verdict::kTarget && r.target_error)
     s += " (error " + num(*r.target_error / scene.length_scale) + " " + scene.length_unit + ")";
   return s;
@@ -212,6 +221,7 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
       if (v.part_a >= 0) first["parts"] = {checker.part_name(v.part_a), checker.part_name(v.part_b)};
       if (v.action >= 0) first["action"] = scene.actions[static_cast<std::size_t>(v.action)].name;
       if (v.between) first["between"] = true;
+      if (uncertified(r, v)) first["uncertified"] = true;
     }
 
     Json p = {{"name", plan.name},

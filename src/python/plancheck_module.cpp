@@ -37,6 +37,21 @@ struct PyResult {
   py::list part_names;
 };
 
+// Per-motion answers of Scene.check_motion (one entry per row of starts/ends).
+struct PyMotionResult {
+  py::array_t<std::uint8_t> verdict;   // verdict.npy codes, as verify --continuous's two-state plan
+  py::array_t<bool> collision;
+  py::array_t<double> min_distance;    // certified lower bound along the motion, ends included; 0 in contact
+  py::array_t<double> t;               // fraction of the motion at the first violation's witness; NaN: none
+  py::array_t<std::int32_t> part_a;    // the witness's pair, index into part_names; -1: none
+  py::array_t<std::int32_t> part_b;
+  py::array_t<bool> certified;         // False: the step budget ran out (a clearance violation, no witness)
+  py::array_t<std::int64_t> steps;     // exact checks between the ends
+  py::list part_names;
+};
+
+using States = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
 class PyScene {
  public:
   PyScene(const std::filesystem::path& path, int threads, const std::optional<std::filesystem::path>& srdf,
@@ -53,14 +68,74 @@ class PyScene {
   const plancheck::Scene& scene() const { return *scene_; }
   const plancheck::Checker& checker() const { return *checker_; }
 
-  PyResult check(const py::handle& states_in, bool verdict_only) const {
-    // Any array-like of numbers; rows are states, columns parameter_names.
-    auto states = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(states_in);
-    if (!states) throw plancheck::Error("states: expected a 2-D array of numbers (rows: states, columns: parameter_names)");
+  // Any array-like of real numbers; rows are states, columns
+  // parameter_names; a 1-D array of parameter_names' length is one state.
+  // Complex values are refused (a cast would drop their imaginary part).
+  States as_states(const py::handle& in, const std::string& what) const {
+    const py::array any = py::array::ensure(in);
+    if (any && any.dtype().kind() == 'c')
+      throw plancheck::Error(what + ": expected real numbers, got complex values (dtype " +
+                             std::string(py::str(any.dtype())) + ")");
+    auto states = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(in);
+    if (!states) throw plancheck::Error(what + ": expected a 2-D array of numbers (rows: states, columns: parameter_names)");
     const std::size_t n = checker_->parameter_count();
+    if (states.ndim() == 1 && static_cast<std::size_t>(states.shape(0)) == n)
+      states = States::ensure(states.reshape({py::ssize_t{1}, static_cast<py::ssize_t>(n)}));
     if (states.ndim() != 2 || static_cast<std::size_t>(states.shape(1)) != n)
-      throw plancheck::Error("states: expected a 2-D array of shape (states, " + std::to_string(n) +
-                             ") (columns: parameter_names), got shape " + shape_text(states));
+      throw plancheck::Error(what + ": expected a 2-D array of shape (states, " + std::to_string(n) +
+                             ") (columns: parameter_names) or one state of " + std::to_string(n) +
+                             " values, got shape " + shape_text(states));
+    return states;
+  }
+
+  PyMotionResult check_motion(const py::handle& starts_in, const py::handle& ends_in, bool verdict_only) const {
+    const States starts = as_states(starts_in, "starts");
+    const States ends = as_states(ends_in, "ends");
+    if (starts.shape(0) != ends.shape(0))
+      throw plancheck::Error("starts and ends: expected the same number of states, got " +
+                             std::to_string(starts.shape(0)) + " and " + std::to_string(ends.shape(0)));
+    const std::size_t count = static_cast<std::size_t>(starts.shape(0));
+    std::vector<plancheck::MotionResult> results(count);
+    {
+      py::gil_scoped_release release;  // both arrays are held by this frame
+      checker_->check_motion_batch(starts.data(), ends.data(), count, results.data(),
+                                   plancheck::MotionOptions{verdict_only});
+    }
+    PyMotionResult r;
+    const auto c = static_cast<py::ssize_t>(count);
+    r.verdict = py::array_t<std::uint8_t>(c);
+    r.collision = py::array_t<bool>(c);
+    r.min_distance = py::array_t<double>(c);
+    r.t = py::array_t<double>(c);
+    r.part_a = py::array_t<std::int32_t>(c);
+    r.part_b = py::array_t<std::int32_t>(c);
+    r.certified = py::array_t<bool>(c);
+    r.steps = py::array_t<std::int64_t>(c);
+    auto verdict = r.verdict.mutable_unchecked<1>();
+    auto collision = r.collision.mutable_unchecked<1>();
+    auto distance = r.min_distance.mutable_unchecked<1>();
+    auto t = r.t.mutable_unchecked<1>();
+    auto pa = r.part_a.mutable_unchecked<1>();
+    auto pb = r.part_b.mutable_unchecked<1>();
+    auto certified = r.certified.mutable_unchecked<1>();
+    auto steps = r.steps.mutable_unchecked<1>();
+    for (py::ssize_t i = 0; i < c; ++i) {
+      const plancheck::MotionResult& m = results[static_cast<std::size_t>(i)];
+      verdict(i) = static_cast<std::uint8_t>(m.verdict);
+      collision(i) = m.collision;
+      distance(i) = m.min_distance;
+      t(i) = m.t;
+      pa(i) = m.part_a_index;
+      pb(i) = m.part_b_index;
+      certified(i) = m.certified;
+      steps(i) = static_cast<std::int64_t>(m.steps);
+    }
+    r.part_names = py::cast(checker_->part_names());
+    return r;
+  }
+
+  PyResult check(const py::handle& states_in, bool verdict_only) const {
+    const States states = as_states(states_in, "states");
     const std::size_t count = static_cast<std::size_t>(states.shape(0));
     std::vector<plancheck::StateResult> results(count);
     {
@@ -112,8 +187,13 @@ class PyScene {
   std::unique_ptr<plancheck::Checker> checker_;
 };
 
+py::array_t<double> as_array(const std::vector<double>& v) {
+  return py::array_t<double>(static_cast<py::ssize_t>(v.size()), v.data());
+}
+
 // Names of the parts at part_a/part_b (None where -1), for printing.
-py::list names_of(const PyResult& r, const py::array_t<std::int32_t>& idx) {
+template <class R>
+py::list names_of(const R& r, const py::array_t<std::int32_t>& idx) {
   py::list out;
   auto v = idx.unchecked<1>();
   for (py::ssize_t i = 0; i < v.shape(0); ++i)
@@ -148,6 +228,29 @@ PYBIND11_MODULE(_plancheck, m) {
                              "part_b as names (None where -1)")
       .def("__len__", [](const PyResult& r) { return r.verdict.shape(0); });
 
+  py::class_<PyMotionResult>(m, "MotionResult",
+                             "Per-motion answers of Scene.check_motion, one entry per row of starts/ends (NumPy arrays).")
+      .def_readonly("verdict", &PyMotionResult::verdict,
+                    "uint8: verify --continuous's verdict for a two-state plan of the motion (0 safe, 1 clearance,\n"
+                    "2 collision, 3 limits): state 0's own violation first, then the motion's, then state 1's")
+      .def_readonly("collision", &PyMotionResult::collision, "bool: parts touch somewhere on the motion, ends included")
+      .def_readonly("min_distance", &PyMotionResult::min_distance,
+                    "float64: a certified lower bound of the distance along the whole motion, ends included\n"
+                    "(length_unit); 0 where a contact is found")
+      .def_readonly("t", &PyMotionResult::t, "float64: the first violation's witness as a fraction of the motion; NaN: none")
+      .def_readonly("part_a", &PyMotionResult::part_a, "int32: the witness's pair, index into part_names; -1: none")
+      .def_readonly("part_b", &PyMotionResult::part_b, "int32: the other part of that pair")
+      .def_readonly("certified", &PyMotionResult::certified,
+                    "bool: False where the motion needs more exact checks than the budget (then a clearance\n"
+                    "violation with no witness)")
+      .def_readonly("steps", &PyMotionResult::steps, "int64: exact configuration checks between the ends")
+      .def_readonly("part_names", &PyMotionResult::part_names, "the parts part_a and part_b index")
+      .def_property_readonly("part_a_names", [](const PyMotionResult& r) { return names_of(r, r.part_a); },
+                             "part_a as names (None where -1)")
+      .def_property_readonly("part_b_names", [](const PyMotionResult& r) { return names_of(r, r.part_b); },
+                             "part_b as names (None where -1)")
+      .def("__len__", [](const PyMotionResult& r) { return r.verdict.shape(0); });
+
   py::class_<PyScene>(m, "Scene",
                       "A scene loaded and its collision structures built (raises plancheck.Error on bad input).")
       .def(py::init<const std::filesystem::path&, int, const std::optional<std::filesystem::path>&,
@@ -160,6 +263,10 @@ PYBIND11_MODULE(_plancheck, m) {
                              "plan column names, in order: the columns of a states array")
       .def_property_readonly("part_names", [](const PyScene& s) { return s.checker().part_names(); },
                              "checked parts (the scene's parts, then 'terrain' when it collides)")
+      .def_property_readonly("lower_limits", [](const PyScene& s) { return as_array(s.scene().lower_limits()); },
+                             "float64 per parameter: lower limit in plan units, -inf where none")
+      .def_property_readonly("upper_limits", [](const PyScene& s) { return as_array(s.scene().upper_limits()); },
+                             "float64 per parameter: upper limit in plan units, inf where none")
       .def_property_readonly("reference_state", [](const PyScene& s) { return s.scene().reference_state(); })
       .def_property_readonly("safety_margin", [](const PyScene& s) { return s.scene().safety_margin(); },
                              "length_unit")
@@ -171,5 +278,12 @@ PYBIND11_MODULE(_plancheck, m) {
            "independent state on the scene's initial terrain, on all threads without the GIL.\n"
            "verdict_only=True: verify --verdict-only's answer, the same verdicts faster: the first\n"
            "colliding pair only, and exact distances only below the safety margin (elsewhere\n"
-           "min_distance is a certified lower bound, min_distance_is_bound True, no parts or points).");
+           "min_distance is a certified lower bound, min_distance_is_bound True, no parts or points).\n"
+           "A 1-D array of len(parameter_names) values is one state.")
+      .def("check_motion", &PyScene::check_motion, py::arg("starts"), py::arg("ends"), py::arg("verdict_only") = false,
+           "Checks the straight-line motion (in plan units, values as written) from each row of `starts`\n"
+           "to the same row of `ends` (arrays as check's), certified as verify --continuous: never safe\n"
+           "where any configuration on it comes below the margin. verdict_only=True: the same verdicts\n"
+           "and witnesses, exact distances only where they decide (what a planner needs); min_distance\n"
+           "is then a looser certified bound.");
 }

@@ -21,6 +21,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iterator>
+#include <random>
 #include <sstream>
 #include <thread>
 #include <string>
@@ -460,3 +461,269 @@ TEST(ApiDataset, DefaultPlansEqualVerify) {
 }
 
 }  // namespace
+
+// ---- Motions: Checker::check_motion against verify --continuous ----------
+
+namespace {
+
+using Motion = std::pair<std::vector<double>, std::vector<double>>;
+
+// verify --continuous on one two-state plan per motion (values as written,
+// %.17g): each plan's report.json entry, its CSV header and state 0's row
+// (which holds the segment's columns).
+struct VerifiedMotions {
+  nlohmann::json plans;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
+VerifiedMotions verify_motions(const fs::path& scene, const std::vector<std::string>& names,
+                               const std::vector<Motion>& motions, const fs::path& dir,
+                               const std::string& extra = "") {
+  std::string header;
+  for (const std::string& n : names) header += (header.empty() ? "" : ",") + n;
+  auto row = [](const std::vector<double>& s) {
+    std::string text;
+    char value[32];
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      std::snprintf(value, sizeof value, "%.17g", s[j]);
+      text += (j ? "," : "") + std::string(value);
+    }
+    return text + "\n";
+  };
+  fs::create_directories(dir / "plans");
+  std::string args = "\"" + scene.string() + "\"";
+  for (std::size_t i = 0; i < motions.size(); ++i) {
+    const fs::path p = dir / "plans" / ("m" + std::to_string(100000 + i) + ".csv");
+    write_text(p, header + "\n" + row(motions[i].first) + row(motions[i].second));
+    args += " \"" + p.string() + "\"";
+  }
+  VerifiedMotions out;
+  const int status = run_verify(args + " --continuous --out \"" + (dir / "out").string() + "\"" + extra);
+  EXPECT_LE(status, 1);
+  if (status > 1) return out;
+  out.plans = nlohmann::json::parse(read_text(dir / "out" / "report.json"))["plans"];
+  for (std::size_t i = 0; i < motions.size(); ++i) {
+    const auto rows = read_csv(dir / "out" / ("m" + std::to_string(100000 + i) + ".csv"));
+    EXPECT_EQ(rows.size(), 3u);
+    if (rows.size() != 3) return out;
+    out.header = rows[0];
+    out.rows.push_back(rows[1]);
+  }
+  return out;
+}
+
+// One check_motion answer against verify --continuous's for the same
+// two-state plan: the plan's verdict and first violation, the segment's
+// collision, witness and certified bound (verdict_only: a bound at most
+// verify's).
+void expect_motion(const plancheck::MotionResult& m, const VerifiedMotions& v, std::size_t i, const std::string& where,
+                   bool verdict_only) {
+  ASSERT_LT(i, v.rows.size()) << where;
+  const nlohmann::json& plan = v.plans[i];
+  auto col = [&](const std::string& name) {
+    const auto at = std::find(v.header.begin(), v.header.end(), name);
+    EXPECT_NE(at, v.header.end()) << name;
+    return at == v.header.end() ? std::string() : v.rows[i][static_cast<std::size_t>(at - v.header.begin())];
+  };
+  EXPECT_EQ(plancheck::verdict_name(m.verdict), plan["verdict"].get<std::string>()) << where;
+  EXPECT_EQ(m.collision, col("segment_collision") == "1") << where;
+  const nlohmann::json& first = plan["first_violation"];
+  if (first.is_null()) {
+    EXPECT_TRUE(std::isnan(m.t)) << where;
+    EXPECT_TRUE(m.part_a.empty()) << where;
+  } else {
+    if (first.value("between", false)) {
+      EXPECT_EQ(m.certified, !first.value("uncertified", false)) << where;
+      if (m.certified) {
+        EXPECT_EQ(num(m.t), col("segment_t")) << where;
+      } else {
+        EXPECT_TRUE(std::isnan(m.t)) << where;
+      }
+    } else {
+      EXPECT_EQ(m.t, first["state"].get<int>() == 0 ? 0.0 : 1.0) << where;
+    }
+    if (first.contains("parts")) {
+      EXPECT_EQ(m.part_a, first["parts"][0].get<std::string>()) << where;
+      EXPECT_EQ(m.part_b, first["parts"][1].get<std::string>()) << where;
+    } else {
+      EXPECT_TRUE(m.part_a.empty()) << where;
+    }
+  }
+  const std::string lower = col("segment_min_distance");
+  if (!verdict_only) {
+    EXPECT_EQ(num(m.min_distance), lower) << where;
+  } else {
+    const double full = lower.empty() ? INFINITY : std::stod(lower);
+    EXPECT_GE(m.min_distance, 0.0) << where;
+    EXPECT_LE(m.min_distance, full * (1 + 1e-11)) << where;
+    if (full == 0.0) EXPECT_EQ(m.min_distance, 0.0) << where;
+  }
+}
+
+// check_motion, both modes, one by one and batched, against verify
+// --continuous on the same motions; counts of verdicts seen.
+std::array<std::size_t, 4> expect_motions_equal_verify(const fs::path& scene_path, const std::vector<Motion>& motions,
+                                                        const fs::path& dir, const std::string& verify_args = "",
+                                                        const plancheck::LoadOptions& load = {}) {
+  const plancheck::Scene scene = plancheck::Scene::load(scene_path.string(), load);
+  const plancheck::Checker checker(scene);
+  const VerifiedMotions v = verify_motions(scene_path, scene.parameter_names(), motions, dir, verify_args);
+  std::array<std::size_t, 4> kinds{};
+  if (v.rows.size() != motions.size()) {
+    ADD_FAILURE() << "verify failed on " << scene_path;
+    return kinds;
+  }
+  std::vector<std::vector<double>> from, to;
+  for (const auto& [a, b] : motions) {
+    from.push_back(a);
+    to.push_back(b);
+  }
+  for (const bool verdict_only : {false, true}) {
+    const auto batch = checker.check_motion_batch(from, to, plancheck::MotionOptions{verdict_only});
+    if (batch.size() != motions.size()) {
+      ADD_FAILURE() << "batch size " << batch.size();
+      return kinds;
+    }
+    for (std::size_t i = 0; i < motions.size(); ++i) {
+      const std::string where = scene_path.filename().string() + " motion " + std::to_string(i) +
+                                (verdict_only ? " (verdict only)" : "");
+      expect_motion(batch[i], v, i, where, verdict_only);
+      if (!verdict_only) ++kinds[static_cast<std::size_t>(batch[i].verdict)];
+      if (i % 17 == 0) {  // single calls agree with the batch
+        const plancheck::MotionResult one = checker.check_motion(from[i], to[i], plancheck::MotionOptions{verdict_only});
+        EXPECT_EQ(one.verdict, batch[i].verdict) << where;
+        EXPECT_EQ(one.min_distance, batch[i].min_distance) << where;
+        EXPECT_EQ(one.steps, batch[i].steps) << where;
+      }
+    }
+  }
+  return kinds;
+}
+
+}  // namespace
+
+// The stiff bar: every motion between two of its states (near misses 1e-7
+// and 1e-9 rad from the margin and from contact, whole turns written as 390,
+// -330 and 720 degrees, the long way round) in both directions.
+TEST(Api, StiffBarMotionsEqualVerifyContinuous) {
+  TempDir t;
+  write_bar_scene(t.path, 1.0, "m");
+  std::vector<Motion> motions;
+  std::vector<double> angles = kBarAngles;
+  angles.push_back(25.45836444744637 + 1e-9);
+  angles.push_back(27.096330350410646 + 1e-9);
+  for (double a : angles)
+    for (double b : angles) motions.push_back({{a}, {b}});
+  const auto kinds = expect_motions_equal_verify(t.path / "scene.json", motions, t.path);
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_GT(kinds[k], 0u) << "verdict " << k;
+}
+
+// A motion that never comes near anything but needs more exact checks than
+// the budget (thousands of turns of a 2 m bar 0.4 m from a post): a
+// violation that names no pair and is not certified, never safe and never
+// a contact, as verify --continuous reports it.
+TEST(Api, MotionBeyondTheStepBudgetIsAnUncertifiedViolation) {
+  TempDir t;
+  int base = 0;
+  write_text(t.path / "model.obj", obj_box("Bar", {0.2, -0.05, 0.95}, {2, 0.05, 1.05}, base) +
+                                       obj_box("Post", {-0.1, -0.1, 1.2}, {0.1, 0.1, 3}, base));
+  write_text(t.path / "scene.json", R"({"format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m",
+  "angle_unit": "deg", "actions": [{"name": "Slew", "node": "Bar", "type": "rotate", "pivot": [0, 0, 0],
+  "axis": [0, 0, 1]}], "safety_margin": 0.05})");
+  // The far motion second: the helper's single-call spot checks take the first.
+  const std::vector<Motion> motions{{{0.0}, {720.0}}, {{0.0}, {2e7}}};
+  const auto kinds = expect_motions_equal_verify(t.path / "scene.json", motions, t.path);
+  EXPECT_EQ(kinds[0], 1u);  // two turns: certified safe
+  EXPECT_EQ(kinds[1], 1u);  // 55,556 turns: not certified, a clearance violation naming no pair
+}
+
+namespace {
+
+// Random motions within the limits (finite ones; +-180 where none): half
+// between two random states (long, across the workspace), half short steps
+// (up to 5% of each range) from a random state.
+std::vector<Motion> random_motions(const plancheck::Scene& scene, std::size_t count, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  const auto lo = scene.lower_limits(), hi = scene.upper_limits();
+  std::vector<Motion> out;
+  auto random_state = [&] {
+    std::vector<double> s(lo.size());
+    for (std::size_t j = 0; j < s.size(); ++j) {
+      const double a = std::isfinite(lo[j]) ? lo[j] : -180.0, b = std::isfinite(hi[j]) ? hi[j] : 180.0;
+      s[j] = std::uniform_real_distribution<double>(a, b)(rng);
+    }
+    return s;
+  };
+  for (std::size_t i = 0; i < count; ++i) {
+    std::vector<double> a = random_state(), b = random_state();
+    if (i % 2)
+      for (std::size_t j = 0; j < a.size(); ++j) {
+        const double lim_a = std::isfinite(lo[j]) ? lo[j] : -180.0, lim_b = std::isfinite(hi[j]) ? hi[j] : 180.0;
+        b[j] = std::clamp(a[j] + 0.05 * (b[j] - a[j]), lim_a, lim_b);
+      }
+    out.emplace_back(a, b);
+  }
+  return out;
+}
+
+}  // namespace
+
+// The default plans segment by segment (each as a two-state plan), random
+// motions of the default arm and of the URDF example's arm on the same
+// lander: check_motion, full and verdict-only, equals verify --continuous.
+// verify digs along plans with a scoop; the API never digs, so verify runs
+// on the scene without its scoop block.
+TEST(ApiDataset, MotionsEqualVerifyContinuous) {
+  const fs::path data = kBinary / "test-dataset";
+  ASSERT_TRUE(fs::exists(data / "scene.json")) << "run DatasetFixture.Generate";
+  nlohmann::ordered_json scene_json = nlohmann::ordered_json::parse(read_text(data / "scene.json"));
+  scene_json.erase("scoop");
+  TempDir t;
+  const fs::path nodig = data / ("scene-nodig-motion-" + t.path.filename().string() + ".json");
+  write_text(nodig, scene_json.dump(2));
+  struct Removed {
+    fs::path p;
+    ~Removed() { fs::remove(p); }
+  } removed{nodig};
+  const plancheck::Scene scene = plancheck::Scene::load(nodig.string());
+
+  std::vector<Motion> motions;
+  std::vector<fs::path> plans;
+  for (const auto& e : fs::directory_iterator(data / "plans")) plans.push_back(e.path());
+  std::sort(plans.begin(), plans.end());
+  // Every 3rd segment of each plan (every 15th under the sanitizers):
+  // designed collision and clearance violations included.
+#ifdef PLANCHECK_SANITIZED
+  const std::size_t every = 15;
+#else
+  const std::size_t every = 3;
+#endif
+  for (const fs::path& p : plans) {
+    const auto states = read_plan(p, scene.parameter_names());
+    for (std::size_t s = 0; s + 1 < states.size(); s += every) motions.emplace_back(states[s], states[s + 1]);
+  }
+  const std::size_t from_plans = motions.size();
+  for (auto& m : random_motions(scene, 60, 11)) motions.push_back(std::move(m));
+  const auto kinds = expect_motions_equal_verify(nodig, motions, t.path / "default");
+  std::printf("default arm: %zu motions (%zu from the plans): %zu safe, %zu clearance, %zu collision, %zu limits\n",
+              motions.size(), from_plans, kinds[0], kinds[1], kinds[2], kinds[3]);
+  EXPECT_GT(kinds[0], 0u);
+  EXPECT_GT(kinds[1] + kinds[2], 0u);
+
+  // The URDF example's survey arm on the same lander.
+  const fs::path example = fs::path(PLANCHECK_SOURCE_DIR) / "datasets" / "urdf-example";
+  nlohmann::json urdf = nlohmann::json::parse(read_text(example / "scene.json"));
+  urdf["model"] = (data / scene_json["model"].get<std::string>()).string();
+  urdf["robot"]["urdf"] = (example / urdf["robot"]["urdf"].get<std::string>()).string();
+  urdf["robot"]["srdf"] = (example / urdf["robot"]["srdf"].get<std::string>()).string();
+  fs::create_directories(t.path / "urdf");
+  write_text(t.path / "urdf" / "scene.json", urdf.dump(2));
+  const plancheck::Scene arm = plancheck::Scene::load((t.path / "urdf" / "scene.json").string());
+  const auto urdf_kinds = expect_motions_equal_verify(t.path / "urdf" / "scene.json", random_motions(arm, 80, 12),
+                                                      t.path / "urdf");
+  std::printf("URDF arm: %zu safe, %zu clearance, %zu collision, %zu limits\n", urdf_kinds[0], urdf_kinds[1],
+              urdf_kinds[2], urdf_kinds[3]);
+  EXPECT_GT(urdf_kinds[0], 0u);
+  EXPECT_GT(urdf_kinds[1] + urdf_kinds[2], 0u);
+}

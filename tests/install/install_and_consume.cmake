@@ -16,10 +16,11 @@ set(prefix ${WORK}/prefix)
 file(REMOVE_RECURSE ${WORK})
 run(${CMAKE_COMMAND} --install ${BUILD} --prefix ${prefix})
 
-# Only the public header is installed.
+# Only the public headers are installed: the API and the header-only OMPL adapter over it.
 file(GLOB_RECURSE headers RELATIVE ${prefix}/include ${prefix}/include/*)
-if(NOT headers STREQUAL "plancheck/plancheck.h")
-  message(FATAL_ERROR "installed headers: '${headers}', expected plancheck/plancheck.h only")
+list(SORT headers)
+if(NOT headers STREQUAL "plancheck/ompl.h;plancheck/plancheck.h")
+  message(FATAL_ERROR "installed headers: '${headers}', expected plancheck/ompl.h and plancheck/plancheck.h only")
 endif()
 file(GLOB libs ${prefix}/lib*/libplancheck.so)
 if(NOT libs)

@@ -26,10 +26,10 @@ BINARY = pathlib.Path(os.environ.get("PLANCHECK_BINARY_DIR", "build"))
 VERDICTS = {0: "safe", 1: "clearance", 2: "collision", 3: "limits"}
 
 
-def verify(scene, plans, out):
+def verify(scene, plans, out, *options):
     """Runs `plancheck verify --quiet`; returns (status, stderr)."""
     p = subprocess.run([str(BINARY / "plancheck"), "verify", str(scene), *map(str, plans),
-                        "--out", str(out), "--quiet"],
+                        "--out", str(out), "--quiet", *options],
                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     return p.returncode, p.stderr
 
@@ -255,6 +255,75 @@ class ModuleTest(unittest.TestCase):
             np.testing.assert_array_equal(r.min_distance, one.min_distance)
             np.testing.assert_array_equal(r.verdict, one.verdict)
             np.testing.assert_array_equal(r.point_a, one.point_a)
+
+
+    def test_limits_one_state_and_complex_values(self):
+        scene_file = write_bar_scene(self.dir)
+        scene = plancheck.Scene(scene_file, threads=1)
+        for limits, value in ((scene.lower_limits, -90.0), (scene.upper_limits, 30.0)):
+            self.assertIsInstance(limits, np.ndarray)
+            self.assertEqual(limits.dtype, np.float64)
+            self.assertEqual(limits.tolist(), [value])
+        unlimited = self.dir / "unlimited.json"
+        unlimited.write_text(scene_file.read_text().replace(', "limits": [-90, 30]', ""))
+        free = plancheck.Scene(unlimited, threads=1)
+        self.assertEqual(free.lower_limits.tolist(), [-math.inf])
+        self.assertEqual(free.upper_limits.tolist(), [math.inf])
+        # A 1-D array of len(parameter_names) values is one state.
+        one = scene.check(np.array([27.1]))
+        two = scene.check(np.array([[27.1]]))
+        self.assertEqual(len(one), 1)
+        self.assertEqual(one.verdict.tolist(), two.verdict.tolist())
+        self.assertEqual(one.min_distance.tolist(), two.min_distance.tolist())
+        m = scene.check_motion([0.0], [29.0])
+        self.assertEqual(len(m), 1)
+        self.assertEqual(m.verdict.tolist(), [2])
+        # Complex states are refused, not cast (the imaginary part dropped).
+        for bad in (np.array([[1 + 2j]]), np.array([[1 + 0j]]), [[1 + 2j]], np.array([5j])):
+            with self.assertRaisesRegex(plancheck.Error, "complex", msg=repr(bad)):
+                scene.check(bad)
+            with self.assertRaisesRegex(plancheck.Error, "complex", msg=repr(bad)):
+                scene.check_motion(bad, [[0.0]])
+        with self.assertRaisesRegex(plancheck.Error, "same number"):
+            scene.check_motion(np.zeros((2, 1)), np.zeros((3, 1)))
+
+    def test_check_motion_equals_verify_continuous(self):
+        """Every motion between two stiff bar states (near misses, whole
+        turns written as 390, -330, 720) against verify --continuous on the
+        same two-state plan."""
+        scene_file = write_bar_scene(self.dir)
+        angles = BAR_ANGLES[::2] + [25.45836444744637 + 1e-9]
+        starts, ends, plans = [], [], []
+        for a in angles:
+            for b in angles:
+                starts.append([a])
+                ends.append([b])
+                plans.append(self.dir / ("m%04d.csv" % len(plans)))
+                plans[-1].write_text("J1\n%r\n%r\n" % (a, b))
+        status, err = verify(scene_file, plans, self.dir / "out", "--continuous")
+        self.assertLessEqual(status, 1, err)
+        report = json.loads((self.dir / "out" / "report.json").read_text())
+        scene = plancheck.Scene(scene_file, threads=2)
+        full = scene.check_motion(np.array(starts), np.array(ends))
+        quick = scene.check_motion(np.array(starts), np.array(ends), verdict_only=True)
+        self.assertEqual(full.t.dtype, np.float64)
+        for i, plan in enumerate(report["plans"]):
+            where = "motion %r -> %r" % (starts[i][0], ends[i][0])
+            with open(self.dir / "out" / (plans[i].stem + ".csv"), newline="") as f:
+                row = list(csv.DictReader(f))[0]
+            for r in (full, quick):
+                self.assertEqual(VERDICTS[int(r.verdict[i])], plan["verdict"], where)
+                self.assertEqual(bool(r.collision[i]), row["segment_collision"] == "1", where)
+                first = plan["first_violation"]
+                if first is None:
+                    self.assertTrue(math.isnan(r.t[i]), where)
+                elif first.get("between"):
+                    self.assertEqual(num(r.t[i]), row["segment_t"], where)
+                else:
+                    self.assertEqual(r.t[i], float(first["state"]), where)
+            self.assertEqual(num(full.min_distance[i]), row["segment_min_distance"], where)
+            self.assertLessEqual(quick.min_distance[i], full.min_distance[i], where)
+        self.assertEqual(set(full.verdict.tolist()), {0, 1, 2, 3})
 
 
 class DatasetTest(unittest.TestCase):

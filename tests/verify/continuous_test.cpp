@@ -311,3 +311,115 @@ TEST(Continuous, CommandLineReportsBetweenAndSegmentColumns) {
 
 }  // namespace
 }  // namespace plancheck
+
+namespace plancheck {
+namespace {
+
+// A motion that never comes within 0.3 m of the post but needs more exact
+// checks than the budget: a violation without a witness (unresolved,
+// counted as clearance), naming no pair, never a contact; its lower bound
+// still holds. With the budget it needs, the same motion is certified safe.
+TEST(Continuous, StepBudgetRunsOutAsAnUncertifiedViolationNamingNoPair) {
+  TempDir dir("continuous");
+  write_scene(dir, {{{2.3, -0.1, 0}, {2.5, 0.1, 2}}});  // 0.3 m beyond the bar's reach, at azimuth 0
+  const std::vector<std::vector<std::array<double, 3>>> plan{{{0, 0, 1}, {36000, 0, 1}}};  // 100 turns
+  ContinuousOptions small;
+  small.max_steps = 500;
+  const auto r = run(dir, plan, 2, small);
+  const PlanResult& p = r->results[0];
+  const SegmentResult& g = p.segments[0];
+  EXPECT_TRUE(g.unresolved);
+  EXPECT_TRUE(g.clearance);
+  EXPECT_FALSE(g.collision);
+  EXPECT_EQ(g.part_a, -1);
+  EXPECT_EQ(g.part_b, -1);
+  EXPECT_EQ(g.witness_t, -1.0);
+  EXPECT_EQ(g.steps, 500u);
+  EXPECT_GE(g.lower_bound, 0.0);  // what the checks left unsettled bounds it, loosely
+  EXPECT_LE(g.lower_bound, 0.3 + 1e-9);
+  EXPECT_EQ(p.verdict, Verdict::kClearance);
+  ASSERT_TRUE(p.first_violation.has_value());
+  EXPECT_TRUE(p.first_violation->between);
+  EXPECT_EQ(p.first_violation->part_a, -1);
+
+  const auto full = run(dir, plan);
+  EXPECT_FALSE(full->results[0].segments[0].unresolved);
+  EXPECT_EQ(full->results[0].verdict, Verdict::kSafe);
+  EXPECT_GT(full->results[0].segments[0].steps, 500u);
+  EXPECT_GE(full->results[0].segments[0].lower_bound, kMargin);
+}
+
+// The command line with its own budget (200,000 checks): 55,556 turns that
+// stay 0.3 m clear are "not certified", a clearance violation naming no
+// pair, not a collision.
+TEST(Continuous, CommandLineSaysNotCertifiedBeyondTheBudget) {
+  TempDir dir("continuous");
+  write_scene(dir, {{{2.3, -0.1, 0}, {2.5, 0.1, 2}}});
+  write_text(dir / "far.csv", plan_text({{0, 0, 1}, {2e7, 0, 1}}));
+  const std::string cmd = kPlancheck + " verify " + (dir / "scene.json").string() + " " + (dir / "far.csv").string() +
+                          " --continuous --out " + (dir / "out").string() + " >" + (dir / "stdout").string() + " 2>&1";
+  EXPECT_EQ(testing::run_command(cmd), 1);
+  const std::string text = testing::read_text(dir / "stdout");
+  EXPECT_NE(text.find("clearance between states 0 and 1 (not certified: the motion needs more than 200000 exact checks)"),
+            std::string::npos)
+      << text;
+  // The plan line names the closest pair at a state; its violation names none.
+  const std::size_t line_end = text.find("first violation:");
+  ASSERT_NE(line_end, std::string::npos) << text;
+  EXPECT_EQ(text.find("Post0", line_end), std::string::npos) << text;
+  EXPECT_EQ(text.find("collision between"), std::string::npos) << text;
+  const auto report = nlohmann::json::parse(testing::read_text(dir / "out" / "report.json"));
+  const auto& first = report["plans"][0]["first_violation"];
+  EXPECT_EQ(first["kind"], "clearance");
+  EXPECT_EQ(first["uncertified"], true);
+  EXPECT_FALSE(first.contains("parts"));
+}
+
+// check_motion (the API's segment on its own) equals verify_segments on the
+// same segment, and its verdict-only mode takes the same decisions: the same
+// flags, witness and pair, with a certified bound no larger.
+TEST(Continuous, MotionChecksEqualVerifySegmentsInBothModes) {
+  TempDir dir("continuous");
+  write_scene(dir, {{{-0.1, 1.2, 0}, {0.1, 1.4, 2}},
+                    {{1.9, -0.3, 0.5}, {2.1, 0.3, 0.92}},
+                    {{-2.6, -0.1, 0.98}, {-2.4, 0.1, 1.2}}});
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> slew(-400, 400), boom(-0.6, 0.7), grow(0.5, 1.4);
+  std::vector<std::vector<std::array<double, 3>>> plans(1);
+  for (int s = 0; s < testing::case_count(60, 12); ++s) plans[0].push_back({slew(rng), boom(rng), grow(rng)});
+  const auto r = run(dir, plans);
+  const SegmentChecker seg(*r->checker, r->scene, ContinuousOptions{});
+  int flagged = 0, exact_saved = 0;
+  for (std::size_t s = 0; s + 1 < r->plans[0].states.size(); ++s) {
+    SCOPED_TRACE("segment " + std::to_string(s));
+    const SegmentResult& g = r->results[0].segments[s];
+    StateResult sa, sb;
+    const auto& st = r->plans[0].states;
+    const SegmentResult full = seg.check_motion(st[s], st[s + 1], false, sa, sb);
+    EXPECT_EQ(full.collision, g.collision);
+    EXPECT_EQ(full.clearance, g.clearance);
+    EXPECT_EQ(full.witness_t, g.witness_t);
+    EXPECT_EQ(full.part_a, g.part_a);
+    EXPECT_EQ(full.part_b, g.part_b);
+    EXPECT_EQ(full.lower_bound, g.lower_bound);
+    EXPECT_EQ(full.steps, g.steps);
+    const SegmentResult vo = seg.check_motion(st[s], st[s + 1], true, sa, sb);
+    EXPECT_EQ(vo.collision, g.collision);
+    EXPECT_EQ(vo.clearance, g.clearance);
+    EXPECT_EQ(vo.unresolved, g.unresolved);
+    EXPECT_EQ(vo.witness_t, g.witness_t);
+    if (g.collision || g.clearance) {
+      EXPECT_EQ(vo.part_a, g.part_a);
+      EXPECT_EQ(vo.part_b, g.part_b);
+    }
+    EXPECT_LE(vo.lower_bound, g.lower_bound);
+    EXPECT_GE(vo.lower_bound, g.collision ? 0.0 : (g.clearance ? 0.0 : kMargin));
+    flagged += g.collision || g.clearance;
+    exact_saved += sa.distance_is_bound || sb.distance_is_bound;
+  }
+  EXPECT_GT(flagged, 0);
+  EXPECT_GT(exact_saved, 0);  // verdict-only did leave some distances as bounds
+}
+
+}  // namespace
+}  // namespace plancheck

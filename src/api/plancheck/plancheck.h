@@ -8,6 +8,7 @@
 //   std::vector<double> state(scene.parameter_names().size(), 0.0);  // plan units, as written
 //   plancheck::StateResult r = checker.check(state);
 //   if (r.verdict != plancheck::Verdict::kSafe) ...
+//   plancheck::MotionResult m = checker.check_motion(state, other);  // the motion between, certified
 //
 // Units are the scene's: states in plan units as a plan CSV writes them
 // (degrees stay degrees, 720 is two turns), lengths in the scene's
@@ -97,6 +98,40 @@ struct CheckOptions {
   bool verdict_only = false;
 };
 
+// What a motion check computes. The verdict is the same either way.
+struct MotionOptions {
+  // false (default): the segment's lower bound as verify --continuous
+  // computes it. true: exact distances only where they decide the verdict
+  // (what a planner's motion validator needs): min_distance is then a
+  // looser certified bound on safe segments. Same verdict, t and pair.
+  bool verdict_only = false;
+};
+
+// What the straight-line motion between two states shows (in plan units,
+// each parameter linear from its value as written to the other's: 0 -> 720
+// is two turns): verify --continuous's answer for a two-state plan of it.
+struct MotionResult {
+  // The two-state plan's verdict: the first violation in the order state 0,
+  // the motion, state 1 (as verify ranks them). A motion whose certification
+  // needs more exact checks than the budget (thousands of turns) is a
+  // kClearance violation with no pair, certified false.
+  Verdict verdict = Verdict::kSafe;
+  bool collision = false;  // parts touch somewhere on the motion, ends included
+  // A certified lower bound of the minimum distance over the whole motion,
+  // ends included (length_unit; 0 where a contact is found; infinity when
+  // the scene checks no pair).
+  double min_distance = std::numeric_limits<double>::infinity();
+  // Where the first violation's witness lies, as a fraction of the motion
+  // (0: state 0, 1: state 1); NaN when safe or with no witness.
+  double t = std::numeric_limits<double>::quiet_NaN();
+  // The witness's pair (the first colliding pair, or the pair below the
+  // margin), moving part first; "" and -1 when none.
+  std::string part_a, part_b;
+  int part_a_index = -1, part_b_index = -1;
+  bool certified = true;  // false: the step budget ran out (verdict kClearance, no witness)
+  std::size_t steps = 0;  // exact configuration checks between the ends
+};
+
 // What Scene::load reads beside the scene file (the command line's --srdf
 // and --package options; for a bare .urdf scene).
 struct LoadOptions {
@@ -155,6 +190,25 @@ class PLANCHECK_API Checker {
   // doubles, C order) into out[0..count). For callers holding a matrix.
   void check_batch(const double* states, std::size_t count, StateResult* out) const;
   void check_batch(const double* states, std::size_t count, StateResult* out, const CheckOptions& options) const;
+
+  // Checks the straight-line motion from `from` to `to` (states as
+  // check()'s), certified: never kSafe where any configuration on it comes
+  // below the margin. Throws Error as check() does for a bad state.
+  MotionResult check_motion(const std::vector<double>& from, const std::vector<double>& to,
+                            const MotionOptions& options = {}) const;
+  // Many independent motions on all the checker's threads: result i is
+  // check_motion(from[i], to[i]). Throws Error naming the first bad state
+  // (by index) before anything is checked.
+  std::vector<MotionResult> check_motion_batch(const std::vector<std::vector<double>>& from,
+                                               const std::vector<std::vector<double>>& to,
+                                               const MotionOptions& options = {}) const;
+  // The same over `count` motions stored row by row (count x parameter count
+  // doubles each, C order) into out[0..count).
+  void check_motion_batch(const double* from, const double* to, std::size_t count, MotionResult* out,
+                          const MotionOptions& options = {}) const;
+
+  // The scene this checker was built for (its limits, names, units).
+  Scene scene() const;
 
   // Parts as StateResult indexes them: the scene's parts, then "terrain"
   // when the terrain collides.

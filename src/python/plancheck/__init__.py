@@ -25,11 +25,11 @@ def _require_numpy() -> None:
 
 _require_numpy()
 
-from ._plancheck import CheckResult, Error, Scene, __version__  # noqa: E402
+from ._plancheck import CheckResult, Error, MotionResult, Scene, __version__  # noqa: E402
 
 # Shown as plancheck.Scene, plancheck.Error ... in reprs and tracebacks.
-for _t in (CheckResult, Error, Scene):
+for _t in (CheckResult, Error, MotionResult, Scene):
     _t.__module__ = __name__
 del _t
 
-__all__ = ["CheckResult", "Error", "Scene", "__version__"]
+__all__ = ["CheckResult", "Error", "MotionResult", "Scene", "__version__"]

@@ -1,0 +1,130 @@
+// SPDX-License-Identifier: MIT
+// plancheck inside OMPL (>= 1.5): a state space from a scene's limits, a
+// state validity checker and a certified motion validator over a
+// plancheck::Checker (contract: shared/spec/plan-and-report-format.md,
+// "Embedding"). Header-only, over the public API only: compiled by a
+// consumer that has OMPL; libplancheck itself does not link OMPL.
+//
+//   auto checker = std::make_shared<plancheck::Checker>(plancheck::Scene::load("scene.json"));
+//   ompl::geometric::SimpleSetup ss(plancheck::ompl::make_space(checker));
+//   auto si = ss.getSpaceInformation();
+//   ss.setStateValidityChecker(std::make_shared<plancheck::ompl::StateValidityChecker>(si, checker));
+//   si->setMotionValidator(std::make_shared<plancheck::ompl::MotionValidator>(si, checker));
+//   ss.setStartAndGoalStates(start, goal);
+//   ss.solve(1.0); ss.simplifySolution();   // every motion of the path is certified
+//
+// States are in plan units, one dimension per parameter name in order, so
+// a path's states written as CSV rows under the parameter names are a plan
+// that `plancheck verify --continuous` passes. A state is valid when its
+// verdict is safe (no contact, clearance at least the safety margin, within
+// limits); a motion is valid when Checker::check_motion (verdict-only) says
+// safe: certified for every configuration on the straight line in plan
+// units, not at sampled points.
+#pragma once
+
+#include <plancheck/plancheck.h>
+
+#include <ompl/base/MotionValidator.h>
+#include <ompl/base/SpaceInformation.h>
+#include <ompl/base/StateValidityChecker.h>
+#include <ompl/base/spaces/RealVectorStateSpace.h>
+#include <ompl/config.h>
+
+#include <cmath>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#if OMPL_MAJOR_VERSION < 1 || (OMPL_MAJOR_VERSION == 1 && OMPL_MINOR_VERSION < 5)
+#error "<plancheck/ompl.h> needs OMPL 1.5 or later"
+#endif
+
+namespace plancheck {
+namespace ompl {
+
+namespace detail {
+
+inline std::vector<double> values(const ::ompl::base::State* state, std::size_t n) {
+  const auto* s = state->as<::ompl::base::RealVectorStateSpace::StateType>();
+  return std::vector<double>(s->values, s->values + n);
+}
+
+}  // namespace detail
+
+// A RealVectorStateSpace with the scene's limits, plan units, one dimension
+// per parameter name in order (named after it). Throws plancheck::Error
+// when a parameter has no limits (a continuous joint, a free translation):
+// a RealVectorStateSpace needs finite bounds.
+inline ::ompl::base::StateSpacePtr make_space(const std::shared_ptr<const Checker>& checker) {
+  const Scene scene = checker->scene();
+  const std::vector<std::string>& names = scene.parameter_names();
+  const std::vector<double> lo = scene.lower_limits(), hi = scene.upper_limits();
+  auto space = std::make_shared<::ompl::base::RealVectorStateSpace>(static_cast<unsigned int>(names.size()));
+  ::ompl::base::RealVectorBounds bounds(static_cast<unsigned int>(names.size()));
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (!std::isfinite(lo[i]) || !std::isfinite(hi[i]))
+      throw Error("make_space: parameter '" + names[i] +
+                  "' has no limits; a RealVectorStateSpace needs finite bounds (set limits in the scene)");
+    bounds.setLow(static_cast<unsigned int>(i), lo[i]);
+    bounds.setHigh(static_cast<unsigned int>(i), hi[i]);
+    space->setDimensionName(static_cast<unsigned int>(i), names[i]);
+  }
+  space->setBounds(bounds);
+  return space;
+}
+
+// Valid: the state's verdict is safe (verdict-only check: the same verdict
+// as the full one, faster). clearance(): the exact minimum distance
+// (length_unit; 0 in contact).
+class StateValidityChecker : public ::ompl::base::StateValidityChecker {
+ public:
+  StateValidityChecker(const ::ompl::base::SpaceInformationPtr& si, std::shared_ptr<const Checker> checker)
+      : ::ompl::base::StateValidityChecker(si), checker_(std::move(checker)) {
+    specs_.clearanceComputationType = ::ompl::base::StateValidityCheckerSpecs::EXACT;
+  }
+
+  bool isValid(const ::ompl::base::State* state) const override {
+    return checker_->check(detail::values(state, checker_->parameter_count()), CheckOptions{true}).verdict ==
+           Verdict::kSafe;
+  }
+
+  double clearance(const ::ompl::base::State* state) const override {
+    return checker_->check(detail::values(state, checker_->parameter_count())).min_distance;
+  }
+
+ private:
+  std::shared_ptr<const Checker> checker_;
+};
+
+// Certified motion validation: Checker::check_motion in verdict-only mode
+// (both ends included). With lastValid, an invalid motion reports its
+// start as the last valid point (fraction 0): the certified answer says
+// where the first violation's witness lies, not up to where the motion was
+// proven clear.
+class MotionValidator : public ::ompl::base::MotionValidator {
+ public:
+  MotionValidator(const ::ompl::base::SpaceInformationPtr& si, std::shared_ptr<const Checker> checker)
+      : ::ompl::base::MotionValidator(si), checker_(std::move(checker)) {}
+
+  bool checkMotion(const ::ompl::base::State* s1, const ::ompl::base::State* s2) const override {
+    const std::size_t n = checker_->parameter_count();
+    const bool ok = checker_->check_motion(detail::values(s1, n), detail::values(s2, n), MotionOptions{true}).verdict ==
+                    Verdict::kSafe;
+    (ok ? valid_ : invalid_)++;
+    return ok;
+  }
+
+  bool checkMotion(const ::ompl::base::State* s1, const ::ompl::base::State* s2,
+                   std::pair<::ompl::base::State*, double>& lastValid) const override {
+    if (checkMotion(s1, s2)) return true;
+    if (lastValid.first) si_->copyState(lastValid.first, s1);
+    lastValid.second = 0.0;
+    return false;
+  }
+
+ private:
+  std::shared_ptr<const Checker> checker_;
+};
+
+}  // namespace ompl
+}  // namespace plancheck

@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: MIT
+// Planning with OMPL on plancheck (<plancheck/ompl.h>), as a planning user
+// does it: RRTConnect with plancheck's state validity checker and certified
+// motion validator, on the default arm and on the URDF example's arm on the
+// same lander, for start/goal pairs whose straight motion is not safe (the
+// lander is in the way); each path is simplified, written as a plan CSV and
+// checked by `plancheck verify --continuous`, which must find every path
+// safe. Exit 0 when all is well, 1 with a message otherwise.
+//
+//   plancheck_ompl_example DATASET URDF_EXAMPLE PLANCHECK OUT
+//
+// DATASET: generate_change5's output; URDF_EXAMPLE: datasets/urdf-example;
+// PLANCHECK: the command line; OUT: a scratch folder (recreated).
+#include <plancheck/ompl.h>
+#include <plancheck/plancheck.h>
+
+#include <nlohmann/json.hpp>
+#include <ompl/base/ScopedState.h>
+#include <ompl/geometric/SimpleSetup.h>
+#include <ompl/geometric/planners/rrt/RRTConnect.h>
+#include <ompl/util/Console.h>
+#include <ompl/util/RandomNumbers.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+namespace ob = ompl::base;
+namespace og = ompl::geometric;
+
+namespace {
+
+int failures = 0;
+
+void fail(const std::string& what) {
+  std::cerr << "FAIL: " << what << "\n";
+  ++failures;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+}
+
+void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+std::vector<double> values(const ob::State* s, std::size_t n) {
+  const double* v = s->as<ob::RealVectorStateSpace::StateType>()->values;
+  return std::vector<double>(v, v + n);
+}
+
+// Plans `queries` start/goal pairs on `scene` into OUT/<name>/qK.csv, then
+// verifies them all with verify --continuous.
+void plan_and_verify(const std::string& name, const fs::path& scene_path, const std::string& plancheck,
+                     const fs::path& out, int queries) {
+  const auto t0 = std::chrono::steady_clock::now();
+  // The ten lines a planning user needs.
+  auto checker = std::make_shared<plancheck::Checker>(plancheck::Scene::load(scene_path.string()));
+  og::SimpleSetup ss(plancheck::ompl::make_space(checker));
+  const ob::SpaceInformationPtr si = ss.getSpaceInformation();
+  ss.setStateValidityChecker(std::make_shared<plancheck::ompl::StateValidityChecker>(si, checker));
+  si->setMotionValidator(std::make_shared<plancheck::ompl::MotionValidator>(si, checker));
+  ss.setPlanner(std::make_shared<og::RRTConnect>(si));
+  ss.setup();
+  const double load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  const std::size_t n = checker->parameter_count();
+  const std::vector<std::string>& names = checker->scene().parameter_names();
+  std::string header;
+  for (const std::string& c : names) header += (header.empty() ? "" : ",") + c;
+  const fs::path dir = out / name;
+  fs::create_directories(dir);
+  const ob::StateSamplerPtr sampler = si->allocStateSampler();
+  ob::ScopedState<> start(si), goal(si);
+  std::string plans;
+  double plan_seconds = 0.0;
+  std::size_t states = 0;
+  for (int q = 0; q < queries; ++q) {
+    // Two safe states whose straight motion is not: something in the way.
+    bool found = false;
+    for (int tries = 0; tries < 100000 && !found; ++tries) {
+      sampler->sampleUniform(start.get());
+      sampler->sampleUniform(goal.get());
+      found = si->isValid(start.get()) && si->isValid(goal.get()) &&
+              checker->check_motion(values(start.get(), n), values(goal.get(), n)).verdict != plancheck::Verdict::kSafe;
+    }
+    if (!found) return fail(name + ": no start/goal pair with an obstacle in the way");
+    ss.clear();
+    ss.setStartAndGoalStates(start, goal);
+    const auto p0 = std::chrono::steady_clock::now();
+    const ob::PlannerStatus status = ss.solve(10.0);
+    if (status != ob::PlannerStatus::EXACT_SOLUTION) return fail(name + " query " + std::to_string(q) + ": not solved");
+    ss.simplifySolution();
+    plan_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - p0).count();
+    og::PathGeometric& path = ss.getSolutionPath();
+    std::string csv = header + "\n";
+    char value[32];
+    for (const ob::State* s : path.getStates()) {
+      const std::vector<double> v = values(s, n);
+      for (std::size_t j = 0; j < n; ++j) {
+        std::snprintf(value, sizeof value, "%.17g", v[j]);
+        csv += (j ? "," : "") + std::string(value);
+      }
+      csv += "\n";
+    }
+    states += path.getStateCount();
+    const fs::path file = dir / ("q" + std::to_string(q) + ".csv");
+    write_text(file, csv);
+    plans += " \"" + file.string() + "\"";
+  }
+  // Every path, every motion between its states: certified safe.
+  const std::string cmd = "\"" + plancheck + "\" verify \"" + scene_path.string() + "\"" + plans +
+                          " --continuous --quiet --out \"" + (dir / "verify").string() + "\" > \"" +
+                          (dir / "verify.txt").string() + "\" 2>&1";
+  const int status = std::system(cmd.c_str());
+  const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::printf("%s: %d queries, %zu path states, load+build %.2f s, plan+simplify %.3f s, verify --continuous exit %d\n",
+              name.c_str(), queries, states, load_seconds, plan_seconds, code);
+  if (code != 0) fail(name + ": verify --continuous exit " + std::to_string(code) + ":\n" + read_text(dir / "verify.txt"));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 5) {
+    std::cerr << "usage: plancheck_ompl_example DATASET URDF_EXAMPLE PLANCHECK OUT\n";
+    return 2;
+  }
+  const fs::path data = fs::absolute(argv[1]), example = fs::absolute(argv[2]), out = fs::absolute(argv[4]);
+  const std::string plancheck = argv[3];
+  ompl::RNG::setSeed(20261127);  // the same queries every run
+  ompl::msg::setLogLevel(ompl::msg::LOG_WARN);
+  fs::remove_all(out);
+  fs::create_directories(out);
+  try {
+    // The default arm. verify digs along a plan with the scoop; planning
+    // states never dig, so both see the scene without its scoop block.
+    nlohmann::ordered_json scene = nlohmann::ordered_json::parse(read_text(data / "scene.json"));
+    scene.erase("scoop");
+    const fs::path nodig = data / ("scene-nodig-ompl-" + std::to_string(::getpid()) + ".json");
+    write_text(nodig, scene.dump(2));
+    plan_and_verify("default-arm", nodig, plancheck, out, 2);
+    fs::remove(nodig);
+
+    // The URDF example's survey arm on the same lander.
+    nlohmann::json urdf = nlohmann::json::parse(read_text(example / "scene.json"));
+    urdf["model"] = (data / scene["model"].get<std::string>()).string();
+    urdf["robot"]["urdf"] = (example / urdf["robot"]["urdf"].get<std::string>()).string();
+    urdf["robot"]["srdf"] = (example / urdf["robot"]["srdf"].get<std::string>()).string();
+    write_text(out / "urdf-scene.json", urdf.dump(2));
+    plan_and_verify("urdf-arm", out / "urdf-scene.json", plancheck, out, 4);
+  } catch (const std::exception& e) {
+    fail(std::string("error: ") + e.what());
+  }
+  if (failures) return 1;
+  std::printf("all paths certified safe by verify --continuous\n");
+  return 0;
+}
