@@ -557,7 +557,9 @@ void expect_motion(const plancheck::MotionResult& m, const VerifiedMotions& v, s
     const double full = lower.empty() ? INFINITY : std::stod(lower);
     EXPECT_GE(m.min_distance, 0.0) << where;
     EXPECT_LE(m.min_distance, full * (1 + 1e-11)) << where;
-    if (full == 0.0) EXPECT_EQ(m.min_distance, 0.0) << where;
+    if (full == 0.0) {
+      EXPECT_EQ(m.min_distance, 0.0) << where;
+    }
   }
 }
 
