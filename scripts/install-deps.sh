@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev libtbb-dev libembree-dev libassimp-dev
   nlohmann-json3-dev libcli11-dev libgmp-dev libcairo2-dev fonts-dejavu-core
   liburdfdom-dev libtinyxml2-dev
+  libgdal-dev gdal-bin
   python3-dev pybind11-dev python3-numpy
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libcgal-dev

@@ -114,7 +114,21 @@ void write_report_html(const Checker& checker, const Scene& scene, const std::ve
   page.update(scene_page_json(checker, scene, frame));
 
   Json plans = Json::array();
-  for (const PlanResult& r : results) plans.push_back(plan_json(checker, scene, r, frame));
+  for (const PlanResult& r : results) {
+    plans.push_back(plan_json(checker, scene, r, frame));
+    // Map coordinates (the raster's CRS, map units) of the target and the
+    // deepest scoop point, for a page to show beside the frame's.
+    if (scene.terrain && !scene.terrain->grid->source.crs_wkt.empty()) {
+      auto map_of = [&](const Vec3& p) {
+        const Vec3 m = *map_point(*scene.terrain->grid, scene.terrain->origin, scene.length_scale, p);
+        return Json::array({m.x(), m.y(), m.z()});
+      };
+      Json map = Json::object();
+      if (r.plan->target) map["target"] = map_of(*r.plan->target);
+      if (r.dig && r.dig->dug) map["deepest"] = map_of(r.dig->deepest_point);
+      plans.back()["map"] = map;
+    }
+  }
 
   // Per plan, the samples each state dug: the same walk as verify's
   // (deterministic), recording what changed.
