@@ -16,6 +16,7 @@
 #include "tests/support/fixtures.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -350,6 +351,57 @@ TEST_F(GdalSite, LargeMosaicReadsOnlyTheWindow) {
   EXPECT_EQ(b.source.pixels_read, s.source.pixels_read);
   EXPECT_LE(b.source.pixels_read, 2.0 * b.ncols * b.nrows);
   EXPECT_LT(b.source.pixels_read, 1e-3 * 4000.0 * 4000.0);
+}
+
+// The command line: `plancheck scene` names the window, report.json carries
+// it under "terrain", `plancheck dig` writes GeoTIFFs with the window's
+// georeference and prints the map coordinates of the deepest point.
+TEST_F(GdalSite, CommandLineReportsTheWindowAndWritesGeotiffs) {
+  const TempDir& d = *dir_;
+  const fs::path exe = fs::path(PLANCHECK_BINARY_DIR) / "plancheck";
+  write_text(d / "cli.json", scene_json("f32.tif", R"("map_origin": [20001.5, -39998.5, 0.05])"));
+  write_text(d / "dig.csv", "# name: dig\n# target: 1.0, 0, 0\nJ1,S\n0,0\n0,20\n0,45\n0,60\n0,20\n");
+  const Scene s = load_scene(d / "cli.json");
+  const Dem& g = *s.terrain->grid;
+  ASSERT_EQ(testing::run_command(exe.string() + " scene " + (d / "cli.json").string() + " > " + (d / "scene.txt").string()), 0);
+  const std::string text = testing::read_text(d / "scene.txt");
+  const std::string says = "(GTiff, band 1, 240 x 240 pixels): read the window within reach, " + std::to_string(g.ncols) +
+                           " x " + std::to_string(g.nrows) + " pixels from column 1, row " +
+                           std::to_string(g.source.row_off + 1) + " (map x 20000 .. ";
+  EXPECT_NE(text.find(says), std::string::npos) << text;
+  const int verified = testing::run_command(exe.string() + " verify " + (d / "cli.json").string() + " " +
+                                            (d / "dig.csv").string() + " --out " + (d / "v").string() +
+                                            " > /dev/null 2>&1");
+  ASSERT_TRUE(verified == 0 || verified == 1) << verified;  // 1: the plan is not safe, the run went through
+  const auto report = nlohmann::json::parse(testing::read_text(d / "v/report.json"));
+  const auto& t = report.at("terrain");
+  EXPECT_EQ(t.at("driver"), "GTiff");
+  EXPECT_EQ(t.at("raster_pixels"), nlohmann::json::array({240, 240}));
+  EXPECT_EQ(t.at("window").at("pixels"), nlohmann::json::array({0, g.source.row_off, g.ncols, g.nrows}));
+  EXPECT_EQ(t.at("window").at("whole"), false);
+  const auto e = window_extent(g);
+  EXPECT_EQ(t.at("window").at("map_extent"), nlohmann::json::array({e[0], e[1], e[2], e[3]}));
+  ASSERT_EQ(testing::run_command(exe.string() + " dig " + (d / "cli.json").string() + " " + (d / "dig.csv").string() +
+                                 " --out " + (d / "dig").string() + " > " + (d / "dig.txt").string() + " 2>/dev/null"),
+            0);
+  const std::string dig = testing::read_text(d / "dig.txt");
+  EXPECT_NE(dig.find("before.tif, after.tif"), std::string::npos) << dig;
+  EXPECT_NE(dig.find("target at map E 20002.5, N -39998.5, H 0.05 m"), std::string::npos) << dig;
+  EXPECT_NE(dig.find("deepest scoop point at map E 2000"), std::string::npos) << dig;
+  for (const char* f : {"dig/before.tif", "dig/after.tif"}) {
+    SCOPED_TRACE(f);
+    const Dem out = load_dem(d / f, 1.0);
+    EXPECT_EQ(out.source.geotransform, g.source.window_geotransform());
+    EXPECT_EQ(out.source.crs_wkt, g.source.crs_wkt);
+    EXPECT_EQ(out.valid, g.valid);
+  }
+  EXPECT_EQ(load_dem(d / "dig/before.tif", 1.0).z, g.z);
+  // The ESRI grid holds the window too, its lower-left corner the window's.
+  const Dem asc = load_dem(d / "dig/before.asc", 1.0);
+  EXPECT_EQ(asc.z, g.z);
+  EXPECT_EQ(asc.valid, g.valid);
+  EXPECT_EQ(asc.xll, e[0]);
+  EXPECT_EQ(asc.yll, e[1]);
 }
 
 }  // namespace
