@@ -4,6 +4,7 @@
 #include "src/scene/terrain.h"
 
 #include "src/base/error.h"
+#include "src/base/files.h"
 #include "src/scene/dem_gdal.h"
 
 #include <algorithm>
@@ -349,22 +350,21 @@ std::optional<double> dem_surface(const Dem& dem, const Vec3& origin, double x, 
 }
 
 void write_dem(const std::filesystem::path& file, const Dem& dem, double length_scale, double nodata) {
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  if (!out) fail(file, "cannot write");
+  std::string out;
   auto g = number_text;
   if (dem.source.has_nodata) nodata = dem.source.nodata;
-  out << "ncols " << dem.ncols << "\nnrows " << dem.nrows << "\n";
-  out << (dem.center_x ? "xllcenter " : "xllcorner ") << g(dem.xll / length_scale) << "\n";
-  out << (dem.center_y ? "yllcenter " : "yllcorner ") << g(dem.yll / length_scale) << "\n";
-  out << "cellsize " << g(dem.cellsize / length_scale) << "\nNODATA_value " << g(nodata) << "\n";
+  out += "ncols " + std::to_string(dem.ncols) + "\nnrows " + std::to_string(dem.nrows) + "\n";
+  out += (dem.center_x ? "xllcenter " : "xllcorner ") + g(dem.xll / length_scale) + "\n";
+  out += (dem.center_y ? "yllcenter " : "yllcorner ") + g(dem.yll / length_scale) + "\n";
+  out += "cellsize " + g(dem.cellsize / length_scale) + "\nNODATA_value " + g(nodata) + "\n";
   for (int r = dem.nrows - 1; r >= 0; --r) {
     for (int c = 0; c < dem.ncols; ++c) {
-      if (c) out << ' ';
-      out << (dem.is_valid(c, r) ? g(dem.height(c, r) / length_scale) : g(nodata));
+      if (c) out += ' ';
+      out += dem.is_valid(c, r) ? g(dem.height(c, r) / length_scale) : g(nodata);
     }
-    out << '\n';
+    out += '\n';
   }
-  if (!out.flush()) fail(file, "write failed");
+  write_file_atomically(file, out);  // a fresh temporary renamed into place: never through a link
 }
 
 std::array<double, 4> window_extent(const Dem& dem) {

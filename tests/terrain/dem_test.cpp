@@ -204,6 +204,20 @@ TEST_F(DemTest, ZeroFilledFileFailsEarlyWithoutBeingHeld) {
   EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 32L * 1024L) << "peak resident set growth (KiB)";
 }
 
+// Issue 31, item 2: dig's grids were written through std::ofstream, so a
+// link planted at DIR/after.asc made the run overwrite its target.
+TEST_F(DemTest, WriterReplacesAPlantedLinkNeverWritesThroughIt) {
+  const Dem a = load_dem(file("ncols 2\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n"), 1.0);
+  const auto victim = dir_ / "victim.txt";
+  write_text(victim, "keep me\n");
+  const auto out = dir_ / "after.asc";
+  std::filesystem::create_symlink(victim, out);
+  write_dem(out, a, 1.0);
+  EXPECT_EQ(testing::read_text(victim), "keep me\n");
+  EXPECT_FALSE(std::filesystem::is_symlink(out));
+  EXPECT_EQ(load_dem(out, 1.0).z, a.z);
+}
+
 TEST_F(DemTest, WriterRoundTripsSamplesHolesAndRegistration) {
   const auto f = file("ncols 3\nnrows 2\nxllcenter 5\nyllcorner 7\ncellsize 0.02\nNODATA_value -1\n"
                       "0.1 0.2 -1\n0.123456789012345 0.5 0.6\n");
