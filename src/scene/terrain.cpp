@@ -12,6 +12,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -31,6 +32,14 @@ bool parse_number(const std::string& token, double& out) {
   const char* last = token.data() + token.size();
   if (first != last && *first == '+') ++first;
   const auto [ptr, ec] = std::from_chars(first, last, out);
+  if (ec == std::errc::result_out_of_range && ptr == last) {
+    // Below double's range (1e-400) is its nearest double, as JSON reads it;
+    // beyond it (1e400) is not finite.
+    const double v = std::strtod(std::string(first, last).c_str(), nullptr);
+    if (!std::isfinite(v)) return false;
+    out = v;
+    return true;
+  }
   return ec == std::errc() && ptr == last && std::isfinite(out);
 }
 

@@ -122,10 +122,24 @@ TEST_F(DemTest, NonFiniteDataIsABadCellNotABadHeader) {
   const std::string head = "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
   for (const char* bad : {"nan", "NaN", "inf", "-inf", "Infinity", "1e400"}) {
     SCOPED_TRACE(bad);
+    // Starting the first data row (the old reader took it for a header key) ...
+    const std::string first = error_of(head + bad + " 2\n3 4\n");
+    EXPECT_EQ(first.find("header"), std::string::npos) << first;
+    EXPECT_NE(first.find(":6:1: '" + std::string(bad) + "' is not a finite number (cell row 1, column 1)"),
+              std::string::npos) << first;
+    // ... or a later one.
     const std::string e = error_of(head + "1 2\n" + bad + " 4\n");
-    EXPECT_EQ(e.find("header"), std::string::npos) << e;
     EXPECT_NE(e.find(":7:1: '" + std::string(bad) + "' is not a finite number (cell row 2, column 1)"), std::string::npos) << e;
   }
+}
+
+// Issue 31, item 12: "1e-400" was called not a finite number; it is below
+// double's range, so it is the nearest double (0), as JSON reads it.
+TEST_F(DemTest, NumbersBelowDoublesRangeAreTheirNearestDouble) {
+  const Dem d = load_dem(file("ncols 2\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1e-400 -1e-400\n"), 1.0);
+  EXPECT_EQ(d.height(0, 0), 0.0);
+  EXPECT_EQ(d.height(1, 0), 0.0);
+  EXPECT_TRUE(d.is_valid(0, 0));
 }
 
 // Issue 31, item 12: a repeated header key silently won (the last cellsize
