@@ -363,8 +363,11 @@ void write_dem(const std::filesystem::path& file, const Dem& dem, double length_
   auto g = number_text;
   if (dem.source.has_nodata) nodata = dem.source.nodata;
   out += "ncols " + std::to_string(dem.ncols) + "\nnrows " + std::to_string(dem.nrows) + "\n";
-  out += (dem.center_x ? "xllcenter " : "xllcorner ") + g(dem.xll / length_scale) + "\n";
-  out += (dem.center_y ? "yllcenter " : "yllcorner ") + g(dem.yll / length_scale) + "\n";
+  // A grid made in memory (no reader) says where its samples sit by x0/y0
+  // alone: 0 is a sample at the origin, as xllcenter/yllcenter write it.
+  const bool cx = dem.center_x || dem.x0 == 0.0, cy = dem.center_y || dem.y0 == 0.0;
+  out += (cx ? "xllcenter " : "xllcorner ") + g(dem.xll / length_scale) + "\n";
+  out += (cy ? "yllcenter " : "yllcorner ") + g(dem.yll / length_scale) + "\n";
   out += "cellsize " + g(dem.cellsize / length_scale) + "\nNODATA_value " + g(nodata) + "\n";
   for (int r = dem.nrows - 1; r >= 0; --r) {
     for (int c = 0; c < dem.ncols; ++c) {
