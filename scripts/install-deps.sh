@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev libtbb-dev libembree-dev libassimp-dev
   nlohmann-json3-dev libcli11-dev libgmp-dev libcairo2-dev fonts-dejavu-core
   liburdfdom-dev libtinyxml2-dev
+  libgdal-dev gdal-bin
   python3-dev pybind11-dev python3-numpy
   python3-venv python3-pip python3-setuptools python3-wheel python3-build python3-pybind11 mypy
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -8,6 +8,7 @@
 #include "src/base/progress.h"
 
 #include "src/scene/kinematics.h"
+#include "src/scene/reach.h"
 #include "src/base/parallel.h"
 #include "src/scene/terrain.h"
 
@@ -214,45 +215,6 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   }
   if (scene.scoop && scene.terrain) digger_ = std::make_unique<const Digger>(scene);
 }
-
-namespace {
-
-// Reach of a part on a chain of rotations (any axes, limits ignored, so the
-// bound holds for every state): a rotation about an axis through pivot p
-// keeps |y - p|, hence a point x posed by A1(A2(...Ak(x))) stays within
-// |x - p_k| + sum_i |p_{i+1} - p_i| of p_1 (triangle inequality, innermost
-// action first). Chains with other actions have no such bound here.
-struct Reach {
-  bool bounded = false;
-  Vec3 centre = Vec3::Zero();  // p_1
-  double r_max = 0.0;          // max over the part's triangle vertices (m)
-  double r_min = 0.0;          // min over them (m)
-};
-
-Reach part_reach(const Scene& scene, const std::vector<int>& chain, const Mesh& mesh) {
-  Reach r;
-  if (chain.empty()) return r;
-  double hops = 0.0;
-  for (std::size_t i = 0; i < chain.size(); ++i) {
-    const Action& a = scene.actions[static_cast<std::size_t>(chain[i])];
-    if (a.type != ActionType::kRotate) return r;
-    if (i > 0) hops += (a.pivot - scene.actions[static_cast<std::size_t>(chain[i - 1])].pivot).norm();
-  }
-  r.centre = scene.actions[static_cast<std::size_t>(chain.front())].pivot;
-  const Vec3 last = scene.actions[static_cast<std::size_t>(chain.back())].pivot;
-  r.r_max = 0.0;
-  r.r_min = std::numeric_limits<double>::infinity();
-  for (const Tri& t : mesh.triangles)
-    for (std::uint32_t v : t) {
-      const double d = (mesh.vertices[v] - last).norm() + hops;
-      r.r_max = std::max(r.r_max, d);
-      r.r_min = std::min(r.r_min, d);
-    }
-  r.bounded = !mesh.triangles.empty();
-  return r;
-}
-
-}  // namespace
 
 // Soundness: let U bound the state's minimum distance from above in every
 // pose: for any checked (moving m, static s) pair and vertices x of m, y of

@@ -7,6 +7,7 @@
 #include "src/base/text.h"
 #include "src/scene/plan.h"
 #include "src/output/dig_png.h"
+#include "src/output/report.h"
 #include "src/base/progress.h"
 #include "src/scene/scene_loader.h"
 
@@ -32,6 +33,10 @@ int run_dig(const DigArgs& args, std::ostream& out, std::ostream& err) {
   std::filesystem::create_directories(args.out);
   write_dem(args.out / "before.asc", digger.undisturbed(), scene.length_scale);
   write_dem(args.out / "after.asc", grid, scene.length_scale);
+  // GeoTIFFs for GIS: the window's georeference and nodata (GDAL encodes,
+  // the report writer writes).
+  write_atomically(args.out / "before.tif", geotiff_bytes(digger.undisturbed(), scene.length_scale));
+  write_atomically(args.out / "after.tif", geotiff_bytes(grid, scene.length_scale));
   DigMapRequest map_request;
   map_request.before = &digger.undisturbed();
   map_request.after = &grid;
@@ -54,10 +59,20 @@ int run_dig(const DigArgs& args, std::ostream& out, std::ostream& err) {
                 sum.spilled_volume / u3);
   out << line;
   std::snprintf(line, sizeof line,
-                "wrote %s/before.asc, after.asc, dig.png (heights %.4g..%.4g %s, difference up to %.4g %s)\n",
+                "wrote %s/before.asc, after.asc, before.tif, after.tif, dig.png (heights %.4g..%.4g %s, difference up to %.4g %s)\n",
                 args.out.string().c_str(), map.z_min / u, map.z_max / u, scene.length_unit.c_str(), map.diff_max / u,
                 scene.length_unit.c_str());
   out << line;
+  // Map coordinates, when the raster has a CRS (terrain.map_origin's frame).
+  auto map_line = [&](const char* what, const Vec3& p) {
+    if (const auto m = map_point(grid, digger.origin(), scene.length_scale, p)) {
+      std::snprintf(line, sizeof line, "%s at map E %.10g, N %.10g, H %.10g %s\n", what, m->x(), m->y(), m->z(),
+                    scene.length_unit.c_str());
+      out << line;
+    }
+  };
+  if (plan.target) map_line("target", *plan.target);
+  if (sum.dug) map_line("deepest scoop point", sum.deepest_point);
   return 0;
 }
 

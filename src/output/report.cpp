@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "src/output/report.h"
+#include "src/scene/terrain.h"
 
 #include "src/base/error.h"
 #include "src/base/files.h"
@@ -283,6 +284,20 @@ void write_reports(const Checker& checker, const Scene& scene, const std::vector
                                {"reason", "beyond reach of the moving parts"}}},
                  {"plans", plans},
                  {"seconds", {{"load", info.load_seconds}, {"build", info.build_seconds}, {"check", info.check_seconds}}}};
+  if (scene.terrain && scene.terrain->grid) {
+    // The part of the raster that was read (docs/terrain-gdal.md): pixels
+    // as GDAL counts them (column, row from the north-west corner, 0-based),
+    // the extent in map units.
+    const Dem& g = *scene.terrain->grid;
+    const auto e = window_extent(g);
+    report["terrain"] = {{"dem", g.source.file.string()},
+                         {"driver", g.source.driver},
+                         {"band", g.source.band},
+                         {"raster_pixels", {g.source.raster_cols, g.source.raster_rows}},
+                         {"window", {{"pixels", {g.source.col_off, g.source.row_off, g.ncols, g.nrows}},
+                                     {"whole", g.source.whole},
+                                     {"map_extent", {e[0], e[1], e[2], e[3]}}}}};
+  }
   if (info.continuous_tolerance > 0.0) {
     report["continuous"] = {{"tolerance", info.continuous_tolerance / unit},
                             {"contact_tolerance", info.contact_tolerance / unit}};

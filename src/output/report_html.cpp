@@ -328,8 +328,22 @@ void write_report_html(const Checker& checker, const Scene& scene, const std::ve
     digger.emplace(scene);
     grid.emplace(digger->undisturbed());
   }
+  // Map coordinates (the raster's CRS, map units) of the target and the
+  // deepest scoop point, for the page to show beside the frame's.
+  const bool map_frame = scene.terrain && !scene.terrain->grid->source.crs_wkt.empty();
+  auto map_of = [&](const Vec3& p) {
+    const Vec3 m = *map_point(*scene.terrain->grid, scene.terrain->origin, scene.length_scale, p);
+    return Json::array({m.x(), m.y(), m.z()});
+  };
   for (std::size_t k = 0; k < results.size(); ++k) {
     Json p = plan_json(scene, results[k], frame, detail[k]);
+    if (map_frame) {
+      const PlanResult& r = results[k];
+      Json map = Json::object();
+      if (r.plan->target) map["target"] = map_of(*r.plan->target);
+      if (r.dig && r.dig->dug) map["deepest"] = map_of(r.dig->deepest_point);
+      p["map"] = map;
+    }
     if (digger && (detail[k] || options.dig_carry)) {
       const Dem& base = digger->undisturbed();
       if (!options.dig_carry) *grid = base;

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdio>
 #include <optional>
 #include <set>
 #include <utility>
@@ -160,6 +161,20 @@ void print_scene_summary(const Scene& scene, std::ostream& out) {
   out << "\nchecked pairs (" << scene.checked_pairs.size() << "):\n";
   for (const CheckedPair& c : scene.checked_pairs)
     out << "  " << pr(scene.parts[c.a].name) << " - " << pr(scene.parts[c.b].name) << "\n";
+  if (scene.terrain) {
+    const Dem& g = *scene.terrain->grid;
+    const DemSource& src = g.source;
+    const auto e = window_extent(g);
+    char line[320];  // numbers only: the path is printed on its own (any length)
+    std::snprintf(line, sizeof line,
+                  ", band %d, %d x %d pixels): read %s %d x %d pixels from column %d, row %d "
+                  "(map x %.10g .. %.10g, y %.10g .. %.10g)\n",
+                  src.band, src.raster_cols, src.raster_rows,
+                  src.whole ? "the whole raster," : "the window within reach,", g.ncols, g.nrows, src.col_off + 1,
+                  src.row_off + 1, e[0], e[2], e[1], e[3]);
+    out << "terrain: " << pr(src.file) << " (" << pr(src.driver);
+    out << line;
+  }
   if (scene.terrain && scene.terrain->collide) {
     out << "terrain: checked against every moving part";
     if (!scene.terrain_allowed_parts.empty()) {

@@ -93,12 +93,17 @@ struct Dem;  // terrain.h
 
 struct TerrainConfig {
   std::filesystem::path dem;   // resolved against the scene file's folder
-  Vec3 origin = Vec3::Zero();  // where the grid's (xll, yll, 0) sits (m)
+  Vec3 origin = Vec3::Zero();  // where the grid's (xll, yll, 0) sits (m); from map_origin when given
   bool collide = true;
   // The grid read from `dem` once, by the scene loader (length_scale
-  // applied); everything that needs the terrain starts from it. Shared and
-  // immutable, so copies of a Scene share one grid.
+  // applied): the window of the raster the moving parts can reach
+  // (scene/terrain_window.h); everything that needs the terrain starts
+  // from it. Shared and immutable, so copies of a Scene share one grid.
   std::shared_ptr<const Dem> grid;
+  int band = 1;                // the raster band holding heights (1 = first)
+  // The map point [E, N, H] (map units, as written) at the reference-frame
+  // origin; the loader turns it into `origin` once the raster's georeference is read.
+  std::optional<Vec3> map_origin;
 };
 
 struct ScoopTemplate {

@@ -11,6 +11,7 @@
 #include "src/scene/model_loader.h"
 #include "src/scene/robot_loader.h"
 #include "src/scene/terrain.h"
+#include "src/scene/terrain_window.h"
 
 #include <nlohmann/json.hpp>
 
@@ -384,14 +385,24 @@ int find_part_or_fail(const Reader& r, const Scene& scene, const std::string& na
 }
 
 void read_terrain(const Reader& r, const Json& j, Scene& scene) {
-  r.check_keys(j, "terrain", {"dem", "origin", "collide"});
+  r.check_keys(j, "terrain", {"dem", "origin", "map_origin", "band", "collide"});
   if (!j.contains("dem")) r.error("terrain.dem", "missing");
   TerrainConfig t;
   t.dem = r.file().parent_path() / r.string(j["dem"], "terrain.dem");
+  if (j.contains("origin") && j.contains("map_origin"))
+    r.error("terrain.map_origin", "give origin or map_origin, not both");
   if (j.contains("origin")) t.origin = r.vec3(j["origin"], "terrain.origin") * scene.length_scale;
+  if (j.contains("map_origin")) t.map_origin = r.vec3(j["map_origin"], "terrain.map_origin");
+  if (j.contains("band")) {
+    const double b = r.number(j["band"], "terrain.band");
+    if (!(b >= 1 && b <= 1e6 && b == std::floor(b))) r.error("terrain.band", "must be a whole number from 1");
+    t.band = static_cast<int>(b);
+  }
   if (j.contains("collide")) t.collide = r.boolean(j["collide"], "terrain.collide");
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(t.dem, ec)) r.error("terrain.dem", "cannot open " + t.dem.string());
+  if (!std::filesystem::exists(t.dem, ec)) r.error("terrain.dem", "cannot open " + t.dem.string());
+  if (!std::filesystem::is_regular_file(t.dem, ec))
+    r.error("terrain.dem", t.dem.string() + " is not a regular file (a directory, device or FIFO cannot be a DEM)");
   scene.terrain = t;  // the grid itself is read once the scene file is checked (load_scene)
 }
 
@@ -634,8 +645,9 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& scene_js
   if (root.contains("probes")) read_probes(r, root["probes"], scene);
   // The DEM is read once, here, after every check of the scene file itself,
   // so a scene's own errors are reported first; everything that needs the
-  // terrain (checks, digging, probes, pages) starts from this grid.
-  if (scene.terrain) scene.terrain->grid = std::make_shared<const Dem>(load_dem(scene.terrain->dem, scene.length_scale));
+  // terrain (checks, digging, probes, pages) starts from this grid, the
+  // window of the raster the moving parts can reach.
+  if (scene.terrain) load_terrain(scene);
   return scene;
 }
 

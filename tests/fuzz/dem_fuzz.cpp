@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// ESRI ASCII DEM: the reader, then the mesh and surface height of what it read.
+// ESRI ASCII DEM: the reader (hand-written and strict; GDAL reads every
+// other raster format), then the mesh and surface height of what it read.
 #include "src/base/error.h"
 #include "src/scene/terrain.h"
 #include "tests/fuzz/support.h"
@@ -17,6 +18,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t count = static_cast<std::size_t>(dem.ncols) * static_cast<std::size_t>(dem.nrows);
     fuzz::require(dem.ncols >= 1 && dem.nrows >= 1 && dem.cellsize > 0, "positive grid");
     fuzz::require(dem.z.size() == count && dem.valid.size() == count, "one sample per cell");
+    for (std::size_t i = 0; i < count; ++i)
+      fuzz::require(!dem.valid[i] || (std::isfinite(dem.z[i]) && std::abs(dem.z[i]) <= kMaxDemHeight),
+                    "heights finite and within kMaxDemHeight");
     const Mesh mesh = dem_mesh(dem, Vec3::Zero());
     fuzz::require(mesh.vertices.size() == count, "one vertex per sample");
     for (const auto& t : mesh.triangles)

@@ -59,8 +59,10 @@ TEST(Probes, RayStraightDownMeetsAFlatGridAtItsHeight) {
   }
   testing::write_text(dir / "flat.asc", dem);
   Scene s = probe_scene({});
-  s.terrain = TerrainConfig{dir / "flat.asc", Vec3(1.0, -0.5, 0.1), true,
-                            std::make_shared<const Dem>(load_dem(dir / "flat.asc", 1.0))};
+  s.terrain = TerrainConfig{};
+  s.terrain->dem = dir / "flat.asc";
+  s.terrain->origin = Vec3(1.0, -0.5, 0.1);
+  s.terrain->grid = std::make_shared<const Dem>(load_dem(dir / "flat.asc", 1.0));
   s.probes.push_back(probe(Vec3(1.4, -0.1, 2.0), -Vec3::UnitZ(), 1, 0.0, 3.0));
   s.probes.push_back(probe(Vec3(1.4, -0.1, 2.0), Vec3::UnitZ(), 1, 0.0, 3.0));     // up: nothing
   s.probes.push_back(probe(Vec3(1.4, -0.1, 2.0), -Vec3::UnitZ(), 1, 0.0, 1.0));    // too short

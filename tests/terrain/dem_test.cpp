@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <sys/resource.h>
+#include <sys/stat.h>
 
+#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -94,7 +96,7 @@ TEST_F(DemTest, ErrorsNameTheFileAndLine) {
             std::string::npos);
   EXPECT_NE(error_of("ncols 2\nnrows 2\nxllcorner 0 1\n").find(":3: expected 'key value'"), std::string::npos);
   EXPECT_NE(error_of(head).find("no data rows"), std::string::npos);
-  EXPECT_NE(error_of("").find("ncols missing"), std::string::npos);
+  EXPECT_NE(error_of("").find(": empty file, not a DEM"), std::string::npos);
   EXPECT_THROW(load_dem(dir_ / "missing.asc", 1.0), InputError);
 }
 
@@ -111,6 +113,123 @@ TEST_F(DemTest, HeaderClaimingMoreSamplesThanTheFileHoldsAllocatesNothingLarge) 
   std::istringstream in("ncols 2\nnrows 1\nxllcenter 0\nyllcenter 0\ncellsize 1\n7 8\n");
   const Dem dem = read_dem(in, "memory.asc", 1.0);
   EXPECT_EQ(dem.height(1, 0), 8.0);
+}
+
+// Issue 31, item 12: a data value that is not finite named the header
+// ("unknown header key 'nan'") when it began a row; it is a bad cell, named
+// by its line, column and (row, column).
+TEST_F(DemTest, NonFiniteDataIsABadCellNotABadHeader) {
+  const std::string head = "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
+  for (const char* bad : {"nan", "NaN", "inf", "-inf", "Infinity", "1e400"}) {
+    SCOPED_TRACE(bad);
+    // Starting the first data row (the old reader took it for a header key) ...
+    const std::string first = error_of(head + bad + " 2\n3 4\n");
+    EXPECT_EQ(first.find("header"), std::string::npos) << first;
+    EXPECT_NE(first.find(":6:1: '" + std::string(bad) + "' is not a finite number (cell row 1, column 1)"),
+              std::string::npos) << first;
+    // ... or a later one.
+    const std::string e = error_of(head + "1 2\n" + bad + " 4\n");
+    EXPECT_NE(e.find(":7:1: '" + std::string(bad) + "' is not a finite number (cell row 2, column 1)"), std::string::npos) << e;
+  }
+}
+
+// Issue 31, item 12: "1e-400" was called not a finite number; it is below
+// double's range, so it is the nearest double (0), as JSON reads it.
+TEST_F(DemTest, NumbersBelowDoublesRangeAreTheirNearestDouble) {
+  const Dem d = load_dem(file("ncols 2\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1e-400 -1e-400\n"), 1.0);
+  EXPECT_EQ(d.height(0, 0), 0.0);
+  EXPECT_EQ(d.height(1, 0), 0.0);
+  EXPECT_TRUE(d.is_valid(0, 0));
+}
+
+// Issue 31, item 12: a repeated header key silently won (the last cellsize
+// counted). GDAL's AAIGrid driver silently keeps the first one; both are
+// wrong for a file whose author meant one of them.
+TEST_F(DemTest, RepeatedHeaderKeyIsRefused) {
+  const std::string e = error_of("ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\ncellsize 2\n1 2\n3 4\n");
+  EXPECT_NE(e.find(":6: header key 'cellsize' repeats the one on line 5"), std::string::npos) << e;
+  // xllcenter and xllcorner say the same thing two ways: also a repeat.
+  const std::string f = error_of("ncols 2\nnrows 2\nxllcorner 0\nxllcenter 1\nyllcorner 0\ncellsize 1\n1 2\n3 4\n");
+  EXPECT_NE(f.find(":4: header key 'xllcenter' repeats the one on line 3"), std::string::npos) << f;
+}
+
+// Issue 31, item 11: finite but huge heights (1e154) gave false collisions
+// outside the terrain and a 50x slower run. Heights beyond kMaxDemHeight
+// (1e7 m: planetary radius DEMs fit) are refused naming the cell.
+TEST_F(DemTest, HeightsNoRealTerrainHasAreRefusedNamingTheCell) {
+  const std::string head = "ncols 3\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
+  const std::string e = error_of(head + "1 2 3\n4 5 -1e154\n");
+  EXPECT_NE(e.find("cell (row 2, column 3"), std::string::npos) << e;
+  EXPECT_NE(e.find("beyond what any real terrain has"), std::string::npos) << e;
+  // The limit is in metres: 2e6 m passes, 2e9 mm (2e6 m) too, 2e10 mm does not.
+  EXPECT_NO_THROW(load_dem(file(head + "1 2 3\n4 5 2e6\n"), 1.0));
+  EXPECT_NO_THROW(load_dem(file(head + "1 2 3\n4 5 2e9\n"), 0.001));
+  EXPECT_THROW(load_dem(file(head + "1 2 3\n4 5 2e10\n"), 0.001), InputError);
+}
+
+// Issue 31, items 5 and 12: a DEM path that is a directory, a device or a
+// FIFO is refused before it is opened (a FIFO would block, /dev/zero grow).
+TEST_F(DemTest, NonRegularPathsAreRefusedBeforeOpening) {
+  const auto fifo = dir_ / "fifo.asc";
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::filesystem::path& p : {dir_.path(), std::filesystem::path("/dev/zero"), fifo}) {
+    SCOPED_TRACE(p.string());
+    try {
+      load_dem(p, 1.0);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(p.string() + ": not a regular file"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// Issue 31, item 6: a zero-filled DEM was held whole (1 GB took 3.4 GB).
+// Now no token may outgrow kMaxToken, and a file that is not ESRI ASCII goes
+// to GDAL, which reads its first bytes only: a 256 MB sparse file of zeros
+// fails at once, naming the file, without growing the process.
+TEST_F(DemTest, ZeroFilledFileFailsEarlyWithoutBeingHeld) {
+  const auto f = dir_ / "zeros.asc";
+  { std::ofstream(f, std::ios::binary); }
+  std::filesystem::resize_file(f, 256u << 20);
+  rusage before{};
+  ASSERT_EQ(getrusage(RUSAGE_SELF, &before), 0);
+  try {
+    load_dem(f, 1.0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(f.string() + ": GDAL cannot open it as a raster"), std::string::npos) << e.what();
+  }
+  // An ESRI header followed by one endless run of zeros: the token limit.
+  const auto g = dir_ / "zeros2.asc";
+  {
+    std::ofstream o(g, std::ios::binary);
+    o << "ncols 2\nnrows 2\nxllcorner 0\nyllcorner 0\ncellsize 1\n1";
+  }
+  std::filesystem::resize_file(g, 64u << 20);
+  try {
+    load_dem(g, 1.0);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(g.string() + ":6: a value longer than 64 characters"), std::string::npos)
+        << e.what();
+  }
+  rusage after{};
+  ASSERT_EQ(getrusage(RUSAGE_SELF, &after), 0);
+  EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 32L * 1024L) << "peak resident set growth (KiB)";
+}
+
+// Issue 31, item 2: dig's grids were written through std::ofstream, so a
+// link planted at DIR/after.asc made the run overwrite its target.
+TEST_F(DemTest, WriterReplacesAPlantedLinkNeverWritesThroughIt) {
+  const Dem a = load_dem(file("ncols 2\nnrows 1\nxllcorner 0\nyllcorner 0\ncellsize 1\n1 2\n"), 1.0);
+  const auto victim = dir_ / "victim.txt";
+  write_text(victim, "keep me\n");
+  const auto out = dir_ / "after.asc";
+  std::filesystem::create_symlink(victim, out);
+  write_dem(out, a, 1.0);
+  EXPECT_EQ(testing::read_text(victim), "keep me\n");
+  EXPECT_FALSE(std::filesystem::is_symlink(out));
+  EXPECT_EQ(load_dem(out, 1.0).z, a.z);
 }
 
 TEST_F(DemTest, WriterRoundTripsSamplesHolesAndRegistration) {

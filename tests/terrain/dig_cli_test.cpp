@@ -75,9 +75,15 @@ TEST(DigCommand, DigCarryStartsEachPlanWhereThePreviousLeftTheGround) {
   if (!fs::exists(kData / "scene.json")) GTEST_SKIP() << "run build/generate_change5 " << kData;
   testing::TempDir dir("carry_cli");
   const std::string plan = (kData / "plans/plan01.csv").string();
+  // The same plan again under another name: two plans of one name would
+  // write one CSV, which verify refuses.
+  std::string again = testing::read_text(plan);
+  ASSERT_EQ(again.rfind("# name: plan01\n", 0), 0u);
+  again.replace(0, 15, "# name: again\n");
+  testing::write_text(dir / "again.csv", again);
   auto dug = [&](const std::string& flag, const std::string& out) {
     EXPECT_EQ(testing::run_command(kExe.string() + " verify " + (kData / "scene.json").string() + " " + plan + " " +
-                                   plan + flag + " --out " + (dir / out).string() + " > /dev/null 2>&1"),
+                                   (dir / "again.csv").string() + flag + " --out " + (dir / out).string() + " > /dev/null 2>&1"),
               0);
     const auto report = nlohmann::json::parse(testing::read_text(dir / out / "report.json"));
     return std::pair{report["plans"][0]["scoop"]["dug_volume"].get<double>(),
