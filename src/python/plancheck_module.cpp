@@ -201,6 +201,18 @@ py::list names_of(const R& r, const py::array_t<std::int32_t>& idx) {
   return out;
 }
 
+// What both result classes (CheckResult, MotionResult) share: the parts of
+// their pairs as names, and a length.
+template <class R>
+void add_pair_names_and_len(py::class_<R>& cls) {
+  cls.def_readonly("part_names", &R::part_names, "the parts part_a and part_b index")
+      .def_property_readonly("part_a_names", [](const R& r) { return names_of(r, r.part_a); },
+                             "part_a as names (None where -1)")
+      .def_property_readonly("part_b_names", [](const R& r) { return names_of(r, r.part_b); },
+                             "part_b as names (None where -1)")
+      .def("__len__", [](const R& r) { return r.verdict.shape(0); });
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_plancheck, m) {
@@ -208,7 +220,7 @@ PYBIND11_MODULE(_plancheck, m) {
   m.attr("__version__") = plancheck::version();
   py::register_exception<plancheck::Error>(m, "Error", PyExc_ValueError);
 
-  py::class_<PyResult>(m, "CheckResult",
+  auto check_result = py::class_<PyResult>(m, "CheckResult",
                        "Per-state answers of Scene.check, one entry per row of the states (NumPy arrays).")
       .def_readonly("collision", &PyResult::collision, "bool: two checked parts intersect or touch")
       .def_readonly("min_distance", &PyResult::min_distance,
@@ -220,15 +232,10 @@ PYBIND11_MODULE(_plancheck, m) {
       .def_readonly("point_b", &PyResult::point_b, "float64 (n, 3): closest point on part_b")
       .def_readonly("min_distance_is_bound", &PyResult::min_distance_is_bound,
                     "bool: min_distance is only a certified lower bound there (verdict_only, every pair proven\n"
-                    "beyond the margin); always False for a full check")
-      .def_readonly("part_names", &PyResult::part_names, "the parts part_a and part_b index")
-      .def_property_readonly("part_a_names", [](const PyResult& r) { return names_of(r, r.part_a); },
-                             "part_a as names (None where -1)")
-      .def_property_readonly("part_b_names", [](const PyResult& r) { return names_of(r, r.part_b); },
-                             "part_b as names (None where -1)")
-      .def("__len__", [](const PyResult& r) { return r.verdict.shape(0); });
+                    "beyond the margin); always False for a full check");
+  add_pair_names_and_len(check_result);
 
-  py::class_<PyMotionResult>(m, "MotionResult",
+  auto motion_result = py::class_<PyMotionResult>(m, "MotionResult",
                              "Per-motion answers of Scene.check_motion, one entry per row of starts/ends (NumPy arrays).")
       .def_readonly("verdict", &PyMotionResult::verdict,
                     "uint8: verify --continuous's verdict for a two-state plan of the motion (0 safe, 1 clearance,\n"
@@ -243,13 +250,8 @@ PYBIND11_MODULE(_plancheck, m) {
       .def_readonly("certified", &PyMotionResult::certified,
                     "bool: False where the motion needs more exact checks than the budget (then a clearance\n"
                     "violation with no witness)")
-      .def_readonly("steps", &PyMotionResult::steps, "int64: exact configuration checks between the ends")
-      .def_readonly("part_names", &PyMotionResult::part_names, "the parts part_a and part_b index")
-      .def_property_readonly("part_a_names", [](const PyMotionResult& r) { return names_of(r, r.part_a); },
-                             "part_a as names (None where -1)")
-      .def_property_readonly("part_b_names", [](const PyMotionResult& r) { return names_of(r, r.part_b); },
-                             "part_b as names (None where -1)")
-      .def("__len__", [](const PyMotionResult& r) { return r.verdict.shape(0); });
+      .def_readonly("steps", &PyMotionResult::steps, "int64: exact configuration checks between the ends");
+  add_pair_names_and_len(motion_result);
 
   py::class_<PyScene>(m, "Scene",
                       "A scene loaded and its collision structures built (raises plancheck.Error on bad input).")
