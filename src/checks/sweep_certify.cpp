@@ -27,6 +27,10 @@ constexpr std::int32_t kNone = std::numeric_limits<std::int32_t>::max();
 // Intersecting triangle pairs listed at a box centre to look for a crossing
 // witness among (the first that holds certifies the box).
 constexpr std::size_t kWitnesses = 16;
+// Small boxes (answered point by point) of at least this many
+// configurations first try one crossing witness for the first pair that
+// was in contact at the last centre.
+constexpr std::size_t kWitnessBox = 4;
 
 }  // namespace
 
@@ -359,25 +363,51 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
     certified_all(floor);
     return;
   }
+  // The box's corners and centre as full parameter vectors.
+  auto corners = [&](std::vector<double>& qlo, std::vector<double>& qhi, std::vector<double>& qc) {
+    qlo = qhi = qc = grid_.reference;
+    for (std::size_t k = 0; k < d; ++k) {
+      const SweepAxis& a = grid_.axes[g.axes[k]];
+      const std::size_t p = static_cast<std::size_t>(a.parameter);
+      double vmin = kInf, vmax = -kInf;
+      for (std::size_t v = c.first[g.axes[k]] + lo[k]; v <= c.first[g.axes[k]] + hi[k]; ++v) {
+        vmin = std::min(vmin, a.values[v]);
+        vmax = std::max(vmax, a.values[v]);
+      }
+      qlo[p] = vmin;
+      qhi[p] = vmax;
+      qc[p] = vmin + 0.5 * (vmax - vmin);
+    }
+  };
+  auto mark_contact = [&](std::size_t k) {
+    each_point([&](const std::vector<std::size_t>& at) {
+      const std::size_t i = out.index(at);
+      c.cert[i] = std::min(c.cert[i], static_cast<std::int32_t>(k));
+    });
+    ++out.contact_boxes;
+  };
   if (points <= kSmallBox) {
+    // The first pair in contact at the last centre may cross with room for
+    // this small box: one witness search (no distance) can spare every
+    // point its contact test and every later pair.
+    for (const Pending& p : pending) {
+      if (!(p.at >= 0 && p.ub == 0.0)) continue;
+      if (points >= kWitnessBox && crossable_[p.pair]) {
+        std::vector<double> qlo, qhi, qc;
+        corners(qlo, qhi, qc);
+        checker_.pose_parts(qc, c.posed, g.parts);
+        ++out.pair_checks;
+        checker_.pair_crossings(c.posed, p.pair, kWitnesses, c.crossings);
+        if (crossing(p.pair, qlo, qhi, c.crossings)) mark_contact(p.pair);
+      }
+      break;
+    }
     each_point([&](const std::vector<std::size_t>& at) { answer_point(c, at, pending, floor); });
     return;
   }
 
-  // The box's corners and centre as full parameter vectors.
-  std::vector<double> qlo = grid_.reference, qhi = grid_.reference, qc = grid_.reference;
-  for (std::size_t k = 0; k < d; ++k) {
-    const SweepAxis& a = grid_.axes[g.axes[k]];
-    const std::size_t p = static_cast<std::size_t>(a.parameter);
-    double vmin = kInf, vmax = -kInf;
-    for (std::size_t v = c.first[g.axes[k]] + lo[k]; v <= c.first[g.axes[k]] + hi[k]; ++v) {
-      vmin = std::min(vmin, a.values[v]);
-      vmax = std::max(vmax, a.values[v]);
-    }
-    qlo[p] = vmin;
-    qhi[p] = vmax;
-    qc[p] = vmin + 0.5 * (vmax - vmin);
-  }
+  std::vector<double> qlo, qhi, qc;
+  corners(qlo, qhi, qc);
   bool posed_done = false;
   std::size_t centre = 0;  // this centre's index in c.pool, once asked
   std::vector<Pending> still;
@@ -430,11 +460,7 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
       if (crossable_[k] && crossing(k, qlo, qhi, c.crossings)) {
         // In contact at every configuration of the box: no pair after k
         // matters here, and those before it need only be proven apart.
-        each_point([&](const std::vector<std::size_t>& at) {
-          const std::size_t i = out.index(at);
-          c.cert[i] = std::min(c.cert[i], static_cast<std::int32_t>(k));
-        });
-        ++out.contact_boxes;
+        mark_contact(k);
         witnessed = true;
         break;
       }
