@@ -154,6 +154,19 @@ SweepCertifier::SweepCertifier(const Checker& checker, const Scene& scene, const
     crossable_.push_back(rigid ? 1 : 0);
   }
   pair_parts_ = checker.pairs();
+  for (const Part& part : scene.parts) {
+    double r = 0.0, e = 0.0;
+    for (const Tri& t : part.mesh.triangles) {
+      const Vec3& x = part.mesh.vertices[t[0]];
+      const Vec3& y = part.mesh.vertices[t[1]];
+      const Vec3& z = part.mesh.vertices[t[2]];
+      const double perimeter = (y - x).norm() + (z - y).norm() + (x - z).norm();
+      if (perimeter > 0.0) r = std::max(r, (y - x).cross(z - x).norm() / perimeter);  // 2 area / perimeter
+      e = std::max({e, (y - x).norm(), (z - y).norm(), (x - z).norm()});
+    }
+    inradius_.push_back(r * (1.0 + 1e-9));
+    longest_edge_.push_back(e * (1.0 + 1e-9));
+  }
 
   // Limits as first_limit_violation reads them: each parameter an action
   // with limits drives directly, against that action's limits.
@@ -291,8 +304,9 @@ void SweepCertifier::answer_point(Context& c, const std::vector<std::size_t>& at
   }
 }
 
-bool SweepCertifier::crossing(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
-                              const std::vector<std::array<Vec3, 6>>& crossings) const {
+bool SweepCertifier::witness_moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
+                                   double& da, double& db) const {
+  if (!crossable_[k]) return false;
   // How far each part's corners move from the centre to any configuration
   // of the box: half the path over it (as Checker::pair_motion), plus
   // rounding twice (the corners as posed at the centre here, and as the
@@ -301,8 +315,23 @@ bool SweepCertifier::crossing(std::size_t k, const std::vector<double>& lo, cons
   // posing errs by a few ulps of it).
   const auto [a, b] = pair_parts_[k];
   const double rounding = 8.0 * guard_;
-  const double da = 0.5 * motion_.part_bound(a, lo, hi) * (1.0 + 1e-9) + 1e-12 + rounding;
-  const double db = 0.5 * motion_.part_bound(b, lo, hi) * (1.0 + 1e-9) + 1e-12 + rounding;
+  da = 0.5 * motion_.part_bound(a, lo, hi) * (1.0 + 1e-9) + 1e-12 + rounding;
+  db = 0.5 * motion_.part_bound(b, lo, hi) * (1.0 + 1e-9) + 1e-12 + rounding;
+  // An edge pq through triangle T certifies only when p and q stay more
+  // than da + db from T's plane, on either side (crossing.h: the volume of
+  // T's edges with p moves by at least |u| |v| (da + db)), so |pq| must
+  // exceed 2 (da + db); and when the line pq stays farther than da + db
+  // from each of T's edge lines (the volume against edge i moves by at
+  // least |pq| |edge i| (da + db)), so T's inradius must exceed da + db.
+  auto of = [](const std::vector<double>& v, int part) {
+    return part >= 0 && static_cast<std::size_t>(part) < v.size() ? v[static_cast<std::size_t>(part)] : 0.0;
+  };
+  const double m = da + db;
+  return (of(longest_edge_, a) > 2.0 * m && of(inradius_, b) > m) ||
+         (of(longest_edge_, b) > 2.0 * m && of(inradius_, a) > m);
+}
+
+bool SweepCertifier::crossing(const std::vector<std::array<Vec3, 6>>& crossings, double da, double db) const {
   for (const std::array<Vec3, 6>& x : crossings)
     if (crossing_certain(x, da, db)) return true;
   return false;
@@ -392,13 +421,14 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
     // point its contact test and every later pair.
     for (const Pending& p : pending) {
       if (!(p.at >= 0 && p.ub == 0.0)) continue;
-      if (points >= kWitnessBox && crossable_[p.pair]) {
-        std::vector<double> qlo, qhi, qc;
-        corners(qlo, qhi, qc);
+      double da = 0.0, db = 0.0;
+      std::vector<double> qlo, qhi, qc;
+      corners(qlo, qhi, qc);
+      if (points >= kWitnessBox && witness_moves(p.pair, qlo, qhi, da, db)) {
         checker_.pose_parts(qc, c.posed, g.parts);
         ++out.pair_checks;
         checker_.pair_crossings(c.posed, p.pair, kWitnesses, c.crossings);
-        if (crossing(p.pair, qlo, qhi, c.crossings)) mark_contact(p.pair);
+        if (crossing(c.crossings, da, db)) mark_contact(p.pair);
       }
       break;
     }
@@ -435,7 +465,9 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
     }
     // A pair in contact at the last centre may cross here with room for
     // the whole box (only a pair that can bring a witness is asked).
-    const bool may_cross = crossable_[k] && p.at >= 0 && p.ub == 0.0;
+    double da = 0.0, db = 0.0;
+    const bool witness = witness_moves(k, qlo, qhi, da, db);
+    const bool may_cross = witness && p.at >= 0 && p.ub == 0.0;
     if (!(ub >= cut + m) && !may_cross) {  // cannot be certified here (or the motion is not finite)
       keep(p, m, lb);
       continue;
@@ -450,14 +482,14 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
     Pending q = p;
     q.at = static_cast<int>(centre);
     bool hit = false;
-    if (crossable_[k]) {
+    if (witness) {
       checker_.pair_crossings(c.posed, k, kWitnesses, c.crossings);
       hit = !c.crossings.empty();
     } else {
       hit = checker_.pair_collides(c.posed, k);
     }
     if (hit) {
-      if (crossable_[k] && crossing(k, qlo, qhi, c.crossings)) {
+      if (witness && crossing(c.crossings, da, db)) {
         // In contact at every configuration of the box: no pair after k
         // matters here, and those before it need only be proven apart.
         mark_contact(k);

@@ -76,11 +76,14 @@ class SweepCertifier {
                std::vector<Pending>& pending, double floor) const;
   void answer_point(Context& c, const std::vector<std::size_t>& at, const std::vector<Pending>& pending,
                     double floor) const;
-  // Whether one of the triangle pairs of checked pair k crossing at the
-  // centre of the box [lo, hi] (world corners as posed there) stays
-  // crossing at every configuration of the box.
-  bool crossing(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
-                const std::vector<std::array<Vec3, 6>>& crossings) const;
+  // How far the corners of checked pair k's parts can move between the
+  // centre of the box [lo, hi] and any configuration of it, as the exact
+  // test poses them (m); false when no crossing witness can hold over it.
+  bool witness_moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi, double& da,
+                     double& db) const;
+  // Whether one of these triangle pairs crossing at a box centre (world
+  // corners as posed there) stays crossing under those moves.
+  bool crossing(const std::vector<std::array<Vec3, 6>>& crossings, double da, double db) const;
 
   const Checker& checker_;
   const Scene& scene_;
@@ -96,6 +99,10 @@ class SweepCertifier {
   // (rigid chains, not the terrain), and its parts' motion bounds.
   std::vector<std::uint8_t> crossable_;
   std::vector<std::pair<int, int>> pair_parts_;  // Checker::pairs()
+  // Per scene part: the largest inradius and edge of its triangles (m). A
+  // witness is an edge longer than twice both parts' moves through a
+  // triangle whose inradius exceeds them (witness_moves).
+  std::vector<double> inradius_, longest_edge_;
   MotionBound motion_;
   // Limits, per axis and value and for the parameters no axis sweeps.
   std::vector<std::vector<std::uint8_t>> outside_limits_;
