@@ -181,6 +181,20 @@ struct StateSeed {
   // parameters `at` (as written); empty: nothing cached.
   std::vector<double> separation;
   std::vector<double> at;
+  // Per checked pair (not the terrain's), the last exact distance search
+  // run on it: its inputs (both parts' transforms and the request) and its
+  // answer. distance() is a deterministic function of these, so a later
+  // state whose search has bitwise the same inputs (the pair's parts did not
+  // move, its seed and bound are the same) takes the answer instead of
+  // searching again: the same bits. A plan that holds a joint still keeps
+  // the pairs of the parts before it (the arm's base over the deck) in place.
+  struct Search {
+    bool valid = false;
+    Affine ta, tb;
+    DistanceRequest request;
+    DistanceResult result;
+  };
+  std::vector<Search> searches;
 };
 
 class Progress;

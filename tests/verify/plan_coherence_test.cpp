@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+// What a plan's states carry to the next (StateSeed) against the states
+// checked without it. The repeated-search memo (StateSeed::searches) must
+// give the very bits a fresh search gives; a seed from a state far away
+// must give the cold answer. References: the same state checked with the
+// memo emptied (bitwise), cold (within the tie tolerance), and pair by pair
+// (pose_parts + pair_distance: every pair searched exactly on its own).
+#include "src/checks/verify.h"
+#include "src/scene/scene_loader.h"
+#include "support/fixtures.h"
+#include "support/sanitized.h"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace plancheck {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kDataset = fs::path(PLANCHECK_SOURCE_DIR) / "datasets/change5";
+
+bool same_bits(double x, double y) { return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y); }
+
+void expect_same_bits(const StateResult& got, const StateResult& want, const std::string& at) {
+  ASSERT_EQ(got.collision, want.collision) << at;
+  EXPECT_TRUE(same_bits(got.min_distance, want.min_distance)) << at << ": " << got.min_distance << " vs " << want.min_distance;
+  EXPECT_EQ(got.part_a, want.part_a) << at;
+  EXPECT_EQ(got.part_b, want.part_b) << at;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(same_bits(got.point_a[i], want.point_a[i])) << at;
+    EXPECT_TRUE(same_bits(got.point_b[i], want.point_b[i])) << at;
+  }
+  EXPECT_TRUE(same_bits(got.distance_tolerance, want.distance_tolerance)) << at;
+  EXPECT_EQ(got.distance_is_bound, want.distance_is_bound) << at;
+  ASSERT_EQ(got.contacts.size(), want.contacts.size()) << at;
+  for (std::size_t c = 0; c < got.contacts.size(); ++c) {
+    EXPECT_EQ(got.contacts[c].part_a, want.contacts[c].part_a) << at;
+    EXPECT_EQ(got.contacts[c].part_b, want.contacts[c].part_b) << at;
+    EXPECT_EQ(got.contacts[c].triangles, want.contacts[c].triangles) << at;
+  }
+}
+
+// The smallest exact pair distance, each pair searched on its own.
+double pair_by_pair_minimum(const Checker& checker, const std::vector<double>& p) {
+  PosedParts posed;
+  checker.pose_parts(p, posed);
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < checker.pairs().size(); ++k) {
+    if (checker.pair_collides(posed, k)) return 0.0;
+    PairAnswer a;
+    checker.pair_distance(posed, k, std::numeric_limits<double>::infinity(), a);
+    if (a.exact) smallest = std::min(smallest, a.distance);
+  }
+  return smallest;
+}
+
+// Plan-like walks where joints are held for a while (so some pairs' parts
+// do not move and their searches repeat bitwise), a state repeated outright,
+// and jumps across the limits (incoherent states, seeds that cannot help).
+std::vector<std::vector<double>> held_walk(const Scene& scene, std::mt19937_64& rng, int n) {
+  std::vector<std::vector<double>> states;
+  std::vector<double> q = testing::random_state(scene, rng, 0.0);
+  std::uniform_real_distribution<double> step(-0.8, 0.8);
+  for (int i = 0; i < n; ++i) {
+    const int kind = static_cast<int>(rng() % 8);
+    if (kind == 0) {
+      q = testing::random_state(scene, rng, 0.0);  // a jump
+    } else if (kind != 1) {                          // kind 1: the same state again
+      // Move one or two parameters a little; the rest stay bitwise the same.
+      for (int m = 0; m < 1 + kind % 2; ++m) {
+        const std::size_t j = rng() % q.size();
+        q[j] += step(rng);
+      }
+    }
+    states.push_back(q);
+  }
+  return states;
+}
+
+TEST(PlanCoherence, RepeatedSearchesGiveTheBitsOfAFreshSearch) {
+  const Scene scene = load_scene(kDataset / "scene.json");
+  const Checker checker(scene);
+  std::mt19937_64 rng(20261128);
+  const int runs = testing::case_count(12, 3);
+  std::size_t remembered = 0, states = 0;
+  for (int run = 0; run < runs; ++run) {
+    const auto walk = held_walk(scene, rng, 24);
+    StateSeed with_memo, without_memo;
+    for (std::size_t s = 0; s < walk.size(); ++s) {
+      const std::string at = "run " + std::to_string(run) + " state " + std::to_string(s);
+      // Searches remembered for this state to reuse where its inputs repeat.
+      for (const StateSeed::Search& m : with_memo.searches) remembered += m.valid ? 1 : 0;
+      StateResult got, want, cold;
+      checker.check_state(walk[s], got, CheckRequest{}, &with_memo);
+      without_memo.searches.clear();  // every search run afresh, the same seed otherwise
+      checker.check_state(walk[s], want, CheckRequest{}, &without_memo);
+      expect_same_bits(got, want, at);
+      checker.check_state(walk[s], cold);
+      ASSERT_EQ(got.collision, cold.collision) << at;
+      if (!got.collision) {
+        EXPECT_NEAR(got.min_distance, cold.min_distance, 2 * kDistanceTieTolerance) << at;
+        if (s % 4 == 0) {
+          EXPECT_NEAR(got.min_distance, pair_by_pair_minimum(checker, walk[s]), 2 * kDistanceTieTolerance) << at;
+        }
+      }
+      if (::testing::Test::HasFatalFailure()) return;
+      ++states;
+    }
+  }
+  EXPECT_EQ(states, static_cast<std::size_t>(runs) * 24);
+  EXPECT_GT(remembered, 0u);
+}
+
+}  // namespace
+}  // namespace plancheck
