@@ -11,7 +11,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <numeric>
+#include <stdexcept>
+#include <utility>
 
 namespace plancheck {
 
@@ -74,7 +77,10 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
   // A digging scene's terrain pairs wait for the dig pass (regolith.cpp),
   // which checks each state against the terrain as dug through that state.
   const bool terrain_later = options.regolith && checker.terrain_is_dug();
-  const CheckRequest request = options.verdict_only ? verdict_only_request(scene.safety_margin) : CheckRequest{};
+  CheckRequest request = options.verdict_only ? verdict_only_request(scene.safety_margin) : CheckRequest{};
+  // The full listing only for the colliding states it is asked for (below).
+  const bool list_later = request.max_triangle_pairs > 0 && options.listed_collisions != std::numeric_limits<std::size_t>::max();
+  if (list_later) request.max_triangle_pairs = 0;
   parallel_for(runs.size(), options.threads, 1, [&](std::size_t run_begin, std::size_t run_end, int) {
     std::size_t done = 0;
     for (std::size_t k = run_begin; k < run_end; ++k) {
@@ -97,6 +103,47 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
   // Digging (with the terrain pairs of digging scenes) and probes, before
   // the verdicts: the dug terrain's contacts and distances are part of them.
   if (options.regolith) dig_and_probe(checker, plans, results, options, state_seconds);
+
+  if (list_later) {
+    // The listed colliding states checked again with the full listing. A
+    // colliding state's contacts do not depend on its seed (a pair skipped
+    // by its carried separation is apart), and the collision test walks the
+    // same way whatever the listing's length, so the first triangle pair of
+    // each part pair is the full listing's first, and everything else in the
+    // state (its contact point, what it carried to the next) is unchanged.
+    // The dug terrain's pairs (terrain_later) were listed in full by the dig
+    // pass, after the others: only the others are replaced.
+    std::vector<std::pair<std::size_t, std::size_t>> listed;
+    for (std::size_t p = 0; p < plans.size(); ++p) {
+      std::size_t count = 0;
+      for (std::size_t s = 0; s < results[p].states.size() && count < options.listed_collisions; ++s)
+        if (results[p].states[s].collision) {
+          listed.emplace_back(p, s);
+          ++count;
+        }
+    }
+    parallel_for(listed.size(), options.threads, 1, [&](std::size_t begin, std::size_t end, int) {
+      StateResult full;
+      for (std::size_t i = begin; i < end; ++i) {
+        const auto [p, s] = listed[i];
+        const auto t0 = std::chrono::steady_clock::now();
+        if (terrain_later)
+          checker.check_state_without_terrain(plans[p].states[s], full, CheckRequest{});
+        else
+          checker.check_state(plans[p].states[s], full, CheckRequest{});
+        std::vector<PairContact>& contacts = results[p].states[s].contacts;
+        if (full.contacts.size() > contacts.size()) throw std::logic_error("verify_plans: the listing found other contacts");
+        for (std::size_t c = 0; c < full.contacts.size(); ++c) {
+          PairContact& got = contacts[c];
+          if (got.part_a != full.contacts[c].part_a || got.part_b != full.contacts[c].part_b || got.triangles.empty() ||
+              full.contacts[c].triangles.empty() || got.triangles[0] != full.contacts[c].triangles[0])
+            throw std::logic_error("verify_plans: the listing found other contacts");
+          got.triangles.swap(full.contacts[c].triangles);
+        }
+        state_seconds[p][s] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+    });
+  }
 
   const double margin = scene.safety_margin;
   for (std::size_t p = 0; p < plans.size(); ++p) {

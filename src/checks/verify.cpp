@@ -640,6 +640,18 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     hint.slot_a = seed->slot_a;
     hint.slot_b = seed->slot_b;
     seed->pair = -1;
+    // A hint whose parts have moved farther since its state than they were
+    // apart there (the motion bound against the separation proven there)
+    // names a triangle pair that may now be anywhere on them: its search
+    // starts from a loose bound and costs more than the coarse pass, which
+    // takes over (states far apart: candidate configurations, coarse
+    // samples, a planner's tree written as a plan). Only the start of the
+    // search changes; the exact pass decides as from any seed.
+    if (carry && hint.pair >= 0 && static_cast<std::size_t>(hint.pair) < pairs_.size()) {
+      const std::size_t k = static_cast<std::size_t>(hint.pair);
+      const double moved = scratch.motion[static_cast<std::size_t>(pairs_[k].a)] + scratch.motion[static_cast<std::size_t>(pairs_[k].b)];
+      if (moved > seed->separation[k]) hint.pair = -1;
+    }
   }
   auto usable = [&](const StateSeed& h) {
     return h.pair >= 0 && static_cast<std::size_t>(h.pair) < pairs_.size() &&

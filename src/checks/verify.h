@@ -205,6 +205,14 @@ struct VerifyOptions {
   bool regolith = true;    // run the digging and probe passes when the scene has them
   Progress* progress = nullptr;  // counts the states checked (optional; last, so {threads, carry} still reads)
   bool verdict_only = false;     // verdict_only_request for every state (verify --verdict-only)
+  // Colliding states per plan whose contacts list up to
+  // kMaxTrianglePairsListed triangle pairs per colliding part pair, in state
+  // order (report.json lists kMaxCollisionStatesListed; report.html every
+  // one). The others list the first triangle pair of each colliding part
+  // pair: the first of the full listing. States are checked with that short
+  // listing and the listed ones again with the full request, so a plan with
+  // many colliding states lists only what its report shows.
+  std::size_t listed_collisions = std::numeric_limits<std::size_t>::max();
 };
 
 // One checked pair at one configuration, asked on its own (the sweep's

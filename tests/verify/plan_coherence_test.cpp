@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // What a plan's states carry to the next (StateSeed) against the states
-// checked without it. The repeated-search memo (StateSeed::searches) must
+// checked without it, and the plan path's short listing of contacts. The repeated-search memo (StateSeed::searches) must
 // give the very bits a fresh search gives; a seed from a state far away
 // must give the cold answer. References: the same state checked with the
 // memo emptied (bitwise), cold (within the tie tolerance), and pair by pair
@@ -117,6 +117,50 @@ TEST(PlanCoherence, RepeatedSearchesGiveTheBitsOfAFreshSearch) {
   }
   EXPECT_EQ(states, static_cast<std::size_t>(runs) * 24);
   EXPECT_GT(remembered, 0u);
+}
+
+// verify_plans lists the full triangle pairs only for the first
+// listed_collisions colliding states of a plan (what report.json shows);
+// the rest keep each colliding part pair's first triangle pair. Against the
+// full listing of every state: everything else bitwise the same. Random
+// states as one plan (a third of them colliding), with the dig pass (the
+// dug terrain's pairs listed by it) and without.
+TEST(PlanCoherence, ListingOnlyWhatTheReportShowsKeepsEverythingElse) {
+  const Scene scene = load_scene(kDataset / "scene.json");
+  const Checker checker(scene);
+  std::mt19937_64 rng(33);
+  Plan plan;
+  plan.name = "random";
+  for (int i = 0; i < testing::case_count(160, 40); ++i) plan.states.push_back(testing::random_state(scene, rng, 0.0));
+  const std::vector<Plan> plans{plan, plan};
+  for (const bool regolith : {false, true}) {
+    VerifyOptions all{2, false, regolith};
+    VerifyOptions some = all;
+    some.listed_collisions = 5;
+    const auto want = verify_plans(checker, scene, plans, all);
+    const auto got = verify_plans(checker, scene, plans, some);
+    std::size_t short_listed = 0;
+    for (std::size_t p = 0; p < plans.size(); ++p) {
+      std::size_t colliding = 0;
+      for (std::size_t s = 0; s < plan.states.size(); ++s) {
+        const std::string at = "regolith " + std::to_string(regolith) + " plan " + std::to_string(p) + " state " + std::to_string(s);
+        const StateResult& g = got[p].states[s];
+        const StateResult& w = want[p].states[s];
+        if (!w.collision || colliding++ < some.listed_collisions) {
+          expect_same_bits(g, w, at);
+          continue;
+        }
+        StateResult first = w;  // the full listing cut to each non-terrain pair's first triangle pair
+        for (PairContact& c : first.contacts)
+          if (c.part_b != checker.terrain_index() || !regolith) c.triangles.resize(1);
+        expect_same_bits(g, first, at);
+        for (const PairContact& c : w.contacts) short_listed += c.triangles.size() > 1 ? 1 : 0;
+        if (::testing::Test::HasFatalFailure()) return;
+      }
+      EXPECT_GT(colliding, some.listed_collisions) << "regolith " << regolith;
+    }
+    EXPECT_GT(short_listed, 0u) << "regolith " << regolith;  // some listing was cut
+  }
 }
 
 }  // namespace
