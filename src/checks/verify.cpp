@@ -554,6 +554,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     if (request.distance && out.contacts.empty()) c.contact = &first_contact;
     return c;
   };
+  bool contact_done = false;  // the first contact is in, the rest need only their bounds
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     const auto [a, b, empty] = pairs_[k];
     const bool on_terrain = b == terrain_index_;
@@ -574,6 +575,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     const double gap = request.distance && g2 > 0.0 ? std::sqrt(g2) : g2;
     const double l = carry ? std::max(gap, carried[k]) : gap;
     lower[k] = l;
+    if (contact_done) continue;  // bounds_after_contact: the bound only
     if (!(l > 0.0)) {
       CollideResult r;
       if (on_terrain)
@@ -589,7 +591,10 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
           if (!kb.empty()) j = kb[j];
         }
         out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
-        if (!request.all_contacts) break;
+        if (!request.all_contacts) {
+          if (!request.bounds_after_contact) break;
+          contact_done = true;
+        }
         continue;
       }
     }

@@ -144,6 +144,11 @@ struct CheckRequest {
   // false: stop at the first colliding part pair (in checked-pair order), so
   // contacts lists that one only. The verdict is the same.
   bool all_contacts = true;
+  // With all_contacts false: the pairs after the first contact still get
+  // their lower bounds (box gap, carried separation), only not their
+  // collision test, so a seed carries to the next state what it carries
+  // with all_contacts (verify_plans' first pass, see listed_collisions).
+  bool bounds_after_contact = false;
   // Distances need be exact only below this (m; infinity: always exact). A
   // pair proven at least this far apart (plus the guard that settles a margin
   // comparison in double) gets no exact distance; when no pair comes closer,

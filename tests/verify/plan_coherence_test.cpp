@@ -119,9 +119,9 @@ TEST(PlanCoherence, RepeatedSearchesGiveTheBitsOfAFreshSearch) {
   EXPECT_GT(remembered, 0u);
 }
 
-// verify_plans lists the full triangle pairs only for the first
-// listed_collisions colliding states of a plan (what report.json shows);
-// the rest keep each colliding part pair's first triangle pair. Against the
+// verify_plans lists every contact with its triangle pairs only for the
+// first listed_collisions colliding states of a plan (what report.json
+// shows); the rest keep the first contact's first triangle pair. Against the
 // full listing of every state: everything else bitwise the same. Random
 // states as one plan (a third of them colliding), with the dig pass (the
 // dug terrain's pairs listed by it) and without.
@@ -150,9 +150,21 @@ TEST(PlanCoherence, ListingOnlyWhatTheReportShowsKeepsEverythingElse) {
           expect_same_bits(g, w, at);
           continue;
         }
-        StateResult first = w;  // the full listing cut to each non-terrain pair's first triangle pair
-        for (PairContact& c : first.contacts)
-          if (c.part_b != checker.terrain_index() || !regolith) c.triangles.resize(1);
+        // The full listing cut to the first contact's first triangle pair
+        // (and the dug terrain's contacts, listed by the dig pass).
+        StateResult first = w;
+        first.contacts.clear();
+        bool kept_first = false;
+        for (const PairContact& c : w.contacts) {
+          if (regolith && c.part_b == checker.terrain_index()) {
+            first.contacts.push_back(c);
+            continue;
+          }
+          if (kept_first) continue;
+          kept_first = true;
+          first.contacts.push_back(c);
+          first.contacts.back().triangles.resize(1);
+        }
         expect_same_bits(g, first, at);
         for (const PairContact& c : w.contacts) short_listed += c.triangles.size() > 1 ? 1 : 0;
         if (::testing::Test::HasFatalFailure()) return;
