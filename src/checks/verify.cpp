@@ -76,7 +76,18 @@ inline double box_gap2(const Box& a, const Box& b) {
 
 }  // namespace
 
-Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : scene_(scene), motion_(scene) {
+namespace {
+
+bool same_mesh(const Mesh& a, const Mesh& b) {
+  return a.vertices.size() == b.vertices.size() && a.triangles.size() == b.triangles.size() &&
+         std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vec3)) == 0 &&
+         std::memcmp(a.triangles.data(), b.triangles.data(), a.triangles.size() * sizeof(Tri)) == 0;
+}
+
+}  // namespace
+
+Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const Checker* reuse)
+    : scene_(scene), motion_(scene) {
   std::vector<const Mesh*> meshes;
   for (const Part& p : scene.parts) {
     names_.push_back(p.name);
@@ -162,7 +173,11 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
     } else {
       const std::size_t part = order[job - probe_jobs - prune_jobs];
       if (chain_of_[part] < 0) pruning_done.wait();
-      if (auto data = ahead != nullptr ? ahead->find(*meshes[part]) : nullptr)
+      const int earlier = reuse != nullptr ? reuse->scene_.find_part(scene.parts[part].name) : -1;
+      if (earlier >= 0 && reuse->kept_[static_cast<std::size_t>(earlier)] == kept_[part] &&
+          same_mesh(reuse->scene_.parts[static_cast<std::size_t>(earlier)].mesh, scene.parts[part].mesh))
+        built[part].emplace(reuse->models_[static_cast<std::size_t>(earlier)].shared_data());
+      else if (auto data = ahead != nullptr ? ahead->find(*meshes[part]) : nullptr)
         built[part].emplace(std::move(data));  // built from this very mesh (BuiltAhead)
       else
         built[part].emplace(*meshes[part]);

@@ -219,7 +219,12 @@ class Checker {
  public:
   // `ahead`: structures built while the model was imported (built_ahead.h),
   // taken for the parts whose meshes they were built from; may be null.
-  explicit Checker(const Scene& scene, int threads = 0, const BuiltAhead* ahead = nullptr);
+  // `reuse`: a checker of an earlier version of the scene (world objects
+  // changed, src/scene/objects.h): a part of the same name whose mesh is
+  // bitwise the same, with the same triangles left out, shares its
+  // structure instead of building it again.
+  explicit Checker(const Scene& scene, int threads = 0, const BuiltAhead* ahead = nullptr,
+                   const Checker* reuse = nullptr);
 
   // Names of the checked parts: Scene::parts, then "terrain" when present.
   const std::string& part_name(int index) const { return names_[static_cast<std::size_t>(index)]; }

@@ -30,6 +30,7 @@ class CollisionModel {
   std::size_t triangle_count() const;
   std::size_t memory_bytes() const;     // all collision structures of this part
   const CollisionModelData& data() const { return *data_; }
+  const std::shared_ptr<const CollisionModelData>& shared_data() const { return data_; }
 
  private:
   std::shared_ptr<const CollisionModelData> data_;
