@@ -43,6 +43,7 @@ using ContinuousOptions = ::plancheck::ContinuousOptions;
 
 #include <cmath>
 #include <exception>
+#include <map>
 #include <mutex>
 #include <utility>
 
@@ -64,8 +65,22 @@ struct SceneData {
 struct Snapshot {
   std::shared_ptr<const SceneData> scene;  // the core checker refers to it
   std::unique_ptr<const plancheck_core::Checker> checker;
-  std::unique_ptr<const plancheck_core::SegmentChecker> segments;  // verify --continuous's defaults
   std::vector<std::string> part_names;
+  // Static objects moved since `scene` was made (a placement in `checker`
+  // only, nothing built): name -> pose in the parent's frame (SI).
+  std::map<std::string, ::plancheck::Affine> moved;
+  // verify --continuous's defaults, made by the first motion check of this version.
+  const plancheck_core::SegmentChecker& segments() const {
+    std::call_once(segments_made, [&] {
+      segments_ = std::make_unique<const plancheck_core::SegmentChecker>(*checker, scene->scene,
+                                                                          plancheck_core::ContinuousOptions{});
+    });
+    return *segments_;
+  }
+
+ private:
+  mutable std::once_flag segments_made;
+  mutable std::unique_ptr<const plancheck_core::SegmentChecker> segments_;
 };
 
 // What copies of a Checker share: the current version of the world, loaded
@@ -174,7 +189,7 @@ void check_one(const detail::Snapshot& d, const std::vector<double>& params, Sta
 void motion_one(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
                 MotionResult& out, const MotionOptions& options) {
   plancheck_core::StateResult sa, sb;
-  const plancheck_core::SegmentResult g = d.segments->check_motion(from, to, options.verdict_only, sa, sb);
+  const plancheck_core::SegmentResult g = d.segments().check_motion(from, to, options.verdict_only, sa, sb);
   const plancheck_core::Scene& scene = d.scene->scene;
   const double unit = scene.length_scale;
   out = MotionResult{};
@@ -275,11 +290,11 @@ std::shared_ptr<const detail::Snapshot> build_snapshot(std::shared_ptr<const det
   d->scene = std::move(scene);
   d->checker = std::make_unique<const plancheck_core::Checker>(d->scene->scene, threads, nullptr,
                                                                earlier != nullptr ? earlier->checker.get() : nullptr);
-  d->segments = std::make_unique<const plancheck_core::SegmentChecker>(*d->checker, d->scene->scene,
-                                                                        plancheck_core::ContinuousOptions{});
   for (std::size_t i = 0; i < d->checker->part_count(); ++i) d->part_names.push_back(d->checker->part_name(static_cast<int>(i)));
   return d;
 }
+
+plancheck_core::ObjectPlace place_of(const std::string& name) { return {{}, "objects['" + name + "']"}; }
 
 // A world change: `edit` changes a copy of the current scene; the new
 // version shares every unchanged part's structure with the current one.
@@ -289,6 +304,7 @@ void change_world(detail::CheckerData& data, Edit&& edit) {
   const std::shared_ptr<const detail::Snapshot> now = data.current();
   auto scene = std::make_shared<detail::SceneData>(*now->scene);
   translated([&] {
+    for (const auto& [name, pose] : now->moved) ::plancheck::move_object(scene->scene, name, pose, place_of(name));
     edit(scene->scene);
     data.publish(build_snapshot(std::move(scene), data.threads, now.get()));
   });
@@ -339,8 +355,6 @@ plancheck_core::WorldObject core_object(const plancheck_core::Scene& scene, cons
                               plancheck_core::Vec3(p.rpy[0], p.rpy[1], p.rpy[2]) * scene.angle_scale);
 }
 
-plancheck_core::ObjectPlace place_of(const std::string& name) { return {{}, "objects['" + name + "']"}; }
-
 }  // namespace
 
 Checker::Checker(const Scene& scene, int threads) {
@@ -363,7 +377,38 @@ void Checker::add_object(const Object& object) {
 }
 
 void Checker::move_object(const std::string& name, const Pose& pose) {
-  change_world(*data_, [&](plancheck_core::Scene& scene) {
+  detail::CheckerData& data = *data_;
+  {
+    // A static object: a new placement in a copy of the current checker,
+    // whose every structure it shares (nothing is built).
+    std::lock_guard<std::mutex> lock(data.change);
+    const std::shared_ptr<const detail::Snapshot> now = data.current();
+    const plancheck_core::Scene& scene = now->scene->scene;
+    const plancheck_core::ObjectPlace at = place_of(name);
+    const bool moved = translated([&] {
+      const int i = ::plancheck::find_object(scene, name);
+      if (i < 0) at.error("", "no object named '" + name + "'");
+      const int part = scene.find_part(name);
+      if (scene.parts[static_cast<std::size_t>(part)].moving()) return false;
+      plancheck_core::WorldObject there = scene.objects[static_cast<std::size_t>(i)];
+      there.pose = core_pose(scene, pose, at);
+      const ::plancheck::Affine placement =
+          ::plancheck::object_frame(scene, there) *
+          ::plancheck::object_frame(scene, scene.objects[static_cast<std::size_t>(i)]).inverse(Eigen::Isometry);
+      if (!placement.matrix().allFinite()) at.error("pose", "not finite");
+      auto next = std::make_shared<detail::Snapshot>();
+      next->scene = now->scene;
+      next->checker = now->checker->with_placement(part, placement);
+      next->part_names = now->part_names;
+      next->moved = now->moved;
+      next->moved[name] = there.pose;
+      data.publish(std::move(next));
+      return true;
+    });
+    if (moved) return;
+  }
+  // An object on a moving node: its part is posed again and built.
+  change_world(data, [&](plancheck_core::Scene& scene) {
     const plancheck_core::ObjectPlace at = place_of(name);
     ::plancheck::move_object(scene, name, core_pose(scene, pose, at), at);
   });

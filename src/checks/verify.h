@@ -280,6 +280,13 @@ class Checker {
   // the scene digs (scoop and terrain) and some pair involves the terrain.
   bool terrain_is_dug() const { return digger_ && terrain_ && has_terrain_pairs_; }
 
+  // A copy of this checker in which static part `part`, a world object
+  // (src/scene/objects.h) that no build left triangles out of, stands at
+  // `placement` times its mesh in the scene (its structure, and every
+  // other, shared; nothing is built). Answers are those of a scene whose
+  // mesh of that part is posed so, up to the rounding of the posing.
+  std::unique_ptr<const Checker> with_placement(int part, const Affine& placement) const;
+
   // The pairs in contact (touching or intersecting) at the reference pose.
   std::vector<PairContact> reference_contacts() const;
 
@@ -338,7 +345,7 @@ class Checker {
   const Scene& scene_;
   std::vector<std::string> names_;
   std::vector<CollisionModel> models_;  // one per scene part (the terrain is terrain_)
-  std::unique_ptr<const Heightfield> terrain_;  // the undisturbed terrain, when it collides
+  std::shared_ptr<const Heightfield> terrain_;  // the undisturbed terrain, when it collides
   int terrain_index_ = -1;                      // its index in names_
   // Parts in some checked pair, and twice the terrain's largest coordinate
   // (0 without terrain pairs): what the verdict-only cutoff scales with.
@@ -357,12 +364,19 @@ class Checker {
   std::vector<PairRef> pairs_;
   // Per checked part: model triangle index -> mesh triangle index, when
   // triangles were left out (empty: the identity).
-  std::vector<std::vector<std::uint32_t>> kept_;
+  // Shared, never changed after the build (copies made by with_placement share it).
+  std::shared_ptr<std::vector<std::vector<std::uint32_t>>> kept_ =
+      std::make_shared<std::vector<std::vector<std::uint32_t>>>();
+  // Per part: where it stands beyond its chain. The identity, but for a
+  // static world object moved at run time (with_placement): its structure
+  // stays the one built at its pose in the scene, placed by this.
+  std::vector<Affine> placement_;
   std::size_t left_out_ = 0;
   MotionBound motion_;  // how far parts can move between two states (cached separations)
   // Built once with the collision structures, only when the scene needs them.
-  std::unique_ptr<const Digger> digger_;        // scoop and terrain
-  std::unique_ptr<const ProbeCaster> probes_;   // probes (an Embree scene)
+  std::shared_ptr<const Digger> digger_;        // scoop and terrain
+  std::shared_ptr<const ProbeCaster> probes_;   // probes (an Embree scene)
+  Checker(const Checker&) = default;            // with_placement's copy: every structure shared
 
  public:
   const Digger* digger() const { return digger_.get(); }

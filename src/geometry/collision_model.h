@@ -24,6 +24,7 @@ class CollisionModel {
   // Takes a structure build_collision_data made (shared, never changed).
   explicit CollisionModel(std::shared_ptr<const CollisionModelData> data);
   ~CollisionModel();
+  CollisionModel(const CollisionModel&) = default;  // shares the structure
   CollisionModel(CollisionModel&&) noexcept;
   CollisionModel& operator=(CollisionModel&&) noexcept;
 

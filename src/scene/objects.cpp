@@ -33,8 +33,14 @@ Affine parent_frame(const Scene& scene, int parent) {
   return f;
 }
 
+}  // namespace
+
+Affine object_frame(const Scene& scene, const WorldObject& object) { return parent_frame(scene, object.parent) * object.pose; }
+
+namespace {
+
 void pose_part(Scene& scene, const WorldObject& o, Part& part, Node& node, const ObjectPlace& at) {
-  const Affine place = parent_frame(scene, o.parent) * o.pose;
+  const Affine place = object_frame(scene, o);
   if (!place.matrix().allFinite()) at.error("pose", "not finite");
   Mesh mesh;
   mesh.triangles = o.local->triangles;

@@ -37,6 +37,10 @@ Mesh mesh_object(const std::filesystem::path& file, const Vec3& scale, std::vect
 // the fixed x, y, z axes (SI units).
 Affine pose_of(const Vec3& xyz, const Vec3& rpy);
 
+// Where `object` stands in the reference frame at the reference pose: its
+// parent's frame times its pose.
+Affine object_frame(const Scene& scene, const WorldObject& object);
+
 // The node an object named `parent` hangs on: a model node or a robot link
 // ("" : the world, -1). Not another object.
 int object_parent(const Scene& scene, const std::string& parent, const ObjectPlace& at);

@@ -918,6 +918,11 @@ TEST(Api, MovedObjectIsSeenAtItsNewPoseOnly) {
     EXPECT_EQ(r.part_b, d < slab ? "Cube" : "Slab") << k;
     EXPECT_EQ(c.object_names(), std::vector<std::string>{"Cube"});
   }
+  // A later change that builds (an added object) keeps the moved one where it was moved to.
+  const plancheck::StateResult moved = c.check(level);
+  c.add_object(box_object("Far", {0.1, 0.1, 0.1}, {-2.5, 0, 3}));
+  expect_same(moved, c.check(level), "after an added object");
+  c.remove_object("Far");
   c.remove_object("Cube");
   EXPECT_TRUE(c.object_names().empty());
   EXPECT_EQ(c.check(level).part_b, "Slab");
@@ -949,6 +954,13 @@ TEST(Api, AttachedObjectsMoveWithTheirNode) {
     EXPECT_EQ(r.part_a, tag < bar ? "Tag" : "Bar") << deg;
     EXPECT_EQ(r.part_b, "Slab") << deg;
   }
+  // Moved at run time on its node, it equals the scene file holding it there.
+  TempDir u;
+  write_bar_scene_with(u.path, R"([{"name": "Tag", "box": [0.1, 0.1, 0.1], "parent": "Bar", "pose": {"xyz": [1.5, 0, 0.7], "rpy": [0, 0, 45]}}])");
+  const plancheck::Checker there(plancheck::Scene::load((u.path / "scene.json").string()), 1);
+  plancheck::Checker moved(plancheck::Scene::load((t.path / "scene.json").string()), 1);
+  moved.move_object("Tag", {{1.5, 0, 0.7}, {0, 0, 45}});
+  for (double deg : {-40.0, 0.0, 20.0, 26.0}) expect_same(there.check({deg}), moved.check({deg}), std::to_string(deg));
 }
 
 // allowed_collisions naming an object drops its pairs; the bar's subtree
