@@ -141,11 +141,26 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
+  // Adding and removing a second box (each builds the new version of the world).
+  std::vector<double> add, remove;
+  for (int r = 0; r < std::max(3, reps / 20); ++r) {
+    plancheck::Object other = rock;
+    other.name = "Other";
+    other.pose.xyz = {p0[0] + 5, p0[1], p0[2]};
+    auto t0 = std::chrono::steady_clock::now();
+    c.add_object(other);
+    add.push_back(seconds_since(t0));
+    t0 = std::chrono::steady_clock::now();
+    c.remove_object("Other");
+    remove.push_back(seconds_since(t0));
+  }
   const double ms = 1e3;
   std::printf("default dataset (%zu parts), 1 thread, median of %d (milliseconds)\n", c.part_names().size(), reps);
   std::printf("  check alone                 %8.3f\n", median(check_alone) * ms);
   std::printf("  move_object alone           %8.3f\n", median(move_alone) * ms);
   std::printf("  move_object + check         %8.3f\n", median(move_and_check) * ms);
   std::printf("  overhead (move+check - check) %6.3f\n", (median(move_and_check) - median(check_alone)) * ms);
+  std::printf("  add_object (a box)          %8.3f\n", median(add) * ms);
+  std::printf("  remove_object               %8.3f\n", median(remove) * ms);
   return 0;
 }

@@ -305,6 +305,9 @@ void change_world(detail::CheckerData& data, Edit&& edit) {
   auto scene = std::make_shared<detail::SceneData>(*now->scene);
   translated([&] {
     for (const auto& [name, pose] : now->moved) ::plancheck::move_object(scene->scene, name, pose, place_of(name));
+    // The API neither digs nor casts probes: a changed world builds neither.
+    scene->scene.probes.clear();
+    scene->scene.scoop.reset();
     edit(scene->scene);
     data.publish(build_snapshot(std::move(scene), data.threads, now.get()));
   });

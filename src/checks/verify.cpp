@@ -103,7 +103,11 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const
   const bool dug = terrain && scene.scoop;
   if (terrain) {
     const Dem& dem = *scene.terrain->grid;
-    terrain_ = std::make_shared<const Heightfield>(dem, scene.terrain->origin);
+    if (reuse != nullptr && reuse->terrain_ && reuse->scene_.terrain && reuse->scene_.terrain->grid == scene.terrain->grid &&
+        reuse->scene_.terrain->origin == scene.terrain->origin)
+      terrain_ = reuse->terrain_;  // the same grid at the same place
+    else
+      terrain_ = std::make_shared<const Heightfield>(dem, scene.terrain->origin);
     if (!dug) terrain_mesh = dem_mesh(dem, scene.terrain->origin);
     names_.push_back("terrain");
     meshes.push_back(&terrain_mesh);

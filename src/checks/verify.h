@@ -222,7 +222,7 @@ class Checker {
   // `reuse`: a checker of an earlier version of the scene (world objects
   // changed, src/scene/objects.h): a part of the same name whose mesh is
   // bitwise the same, with the same triangles left out, shares its
-  // structure instead of building it again.
+  // structure instead of building it again; so does the terrain on the same grid.
   explicit Checker(const Scene& scene, int threads = 0, const BuiltAhead* ahead = nullptr,
                    const Checker* reuse = nullptr);
 
