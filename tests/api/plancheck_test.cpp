@@ -1040,7 +1040,7 @@ TEST(Api, ConcurrentObjectMovesNeverShowHalfAChange) {
   const plancheck::Pose near{{1, 0, 1.3}, {}}, far{{1, 0, 3}, {}};
   c.add_object(box_object("Cube", {0.2, 0.2, 0.2}, near.xyz));
   std::vector<std::vector<double>> states;
-  for (int i = 0; i < 40; ++i) states.push_back({-60.0 + 2.0 * i});
+  for (int i = 0; i < 200; ++i) states.push_back({-60.0 + 0.4 * i});
   const auto at_near = c.check_batch(states);
   c.move_object("Cube", far);
   const auto at_far = c.check_batch(states);
@@ -1051,18 +1051,26 @@ TEST(Api, ConcurrentObjectMovesNeverShowHalfAChange) {
     return true;
   };
   ASSERT_FALSE(same(at_near, at_far));
-  std::atomic<bool> done{false};
+  // The mover keeps moving until the batches are done, so they overlap; it
+  // ends on `far`.
+  std::atomic<bool> stop{false};
+  std::atomic<int> moves{0};
   std::thread mover([&] {
-    for (int k = 0; k < 30; ++k) c.move_object("Cube", k % 2 ? far : near);
-    done = true;
+    for (int k = 0; !stop || k % 2 == 1; ++k) {
+      c.move_object("Cube", k % 2 ? far : near);
+      ++moves;
+    }
   });
-  int batches = 0, mixed = 0;
-  while (!done || batches < 5) {
+  int mixed = 0, seen_near = 0, seen_far = 0;
+  for (int b = 0; b < 100; ++b) {
     const auto r = c.check_batch(states);
-    mixed += !(same(r, at_near) || same(r, at_far));
-    ++batches;
+    const bool n = same(r, at_near), f = same(r, at_far);
+    mixed += !(n || f);
+    seen_near += n;
+    seen_far += f;
   }
+  stop = true;
   mover.join();
-  EXPECT_EQ(mixed, 0) << batches << " batches";
+  EXPECT_EQ(mixed, 0) << seen_near << " batches saw near, " << seen_far << " far, " << moves << " moves";
   EXPECT_TRUE(same(c.check_batch(states), at_far));  // the last move (k = 29) was to `far`
 }
