@@ -758,6 +758,15 @@ plancheck::Object box_object(const std::string& name, std::array<double, 3> size
   return o;
 }
 
+plancheck::Object sphere_object(const std::string& name, double radius, std::array<double, 3> xyz) {
+  plancheck::Object o;
+  o.name = name;
+  o.shape = plancheck::Object::Shape::kSphere;
+  o.radius = radius;
+  o.pose.xyz = xyz;
+  return o;
+}
+
 void expect_same(const plancheck::StateResult& a, const plancheck::StateResult& b, const std::string& what) {
   EXPECT_EQ(a.collision, b.collision) << what;
   EXPECT_EQ(a.min_distance, b.min_distance) << what;
@@ -793,12 +802,7 @@ void add_bar_objects(plancheck::Checker& c, const fs::path& dir) {
   pole.length = 1.2;
   pole.pose = {{-1, 0.4, 0.6}, {0, 90, 0}};
   c.add_object(pole);
-  plancheck::Object ball;
-  ball.name = "Ball";
-  ball.shape = plancheck::Object::Shape::kSphere;
-  ball.radius = 0.1;
-  ball.pose.xyz = {1.5, 0, 0.5};
-  c.add_object(ball);
+  c.add_object(sphere_object("Ball", 0.1, {1.5, 0, 0.5}));
   plancheck::Object crate;
   crate.name = "Crate";
   crate.shape = plancheck::Object::Shape::kMesh;
@@ -867,12 +871,7 @@ TEST(ApiDataset, ObjectsInJsonEqualObjectsAddedAtRunTime) {
   const plancheck::Checker json(plancheck::Scene::load((t.path / "objects.json").string()), 2);
   plancheck::Checker run(plancheck::Scene::load((t.path / "plain.json").string()), 2);
   run.add_object(box_object("Rock1", {0.3, 0.2, 0.15}, {2.9, 0.1, 0.07}, {0, 0, 30}));
-  plancheck::Object ball;
-  ball.name = "Ball";
-  ball.shape = plancheck::Object::Shape::kSphere;
-  ball.radius = 0.25;
-  ball.pose.xyz = {2.0, 0.5, 1.6};
-  run.add_object(ball);
+  run.add_object(sphere_object("Ball", 0.25, {2.0, 0.5, 1.6}));
   run.add_object(box_object("Bag", {0.05, 0.05, 0.08}, {0, 0, 0.06}, {}, "Scoop"));
   EXPECT_EQ(json.part_names(), run.part_names());
   std::vector<std::vector<double>> states;
