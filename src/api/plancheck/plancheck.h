@@ -254,7 +254,9 @@ class PLANCHECK_API Checker {
   // The world objects in order: the scene file's, then those added.
   std::vector<std::string> object_names() const;
 
-  // The scene of the current world (its limits, names, units, objects).
+  // The scene of the current world (its limits, names, units). The Scene
+  // returned holds its data: references into it (parameter_names()) live as
+  // long as it does, not as long as the world (a change may free the old one).
   Scene scene() const;
 
   // Parts as StateResult indexes them: the scene's parts (world objects
