@@ -120,6 +120,7 @@ int object_parent(const Scene& scene, const std::string& parent, const ObjectPla
 }
 
 void add_object(Scene& scene, WorldObject object, const ObjectPlace& at) {
+  if (scene.objects.size() >= kMaxObjects) at.error("", "more than " + std::to_string(kMaxObjects) + " objects");
   if (object.name.empty()) at.error("name", "empty name");
   for (const Node& n : scene.nodes)
     if (n.name == object.name)

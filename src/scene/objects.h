@@ -8,6 +8,7 @@
 
 #include "src/scene/scene.h"
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -45,8 +46,13 @@ Affine object_frame(const Scene& scene, const WorldObject& object);
 // ("" : the world, -1). Not another object.
 int object_parent(const Scene& scene, const std::string& parent, const ObjectPlace& at);
 
+// Most world objects a scene holds: a scene file of a few megabytes must not
+// ask for gigabytes (a sphere is some 4,000 triangles from 20 bytes of JSON).
+inline constexpr std::size_t kMaxObjects = 4096;
+
 // Adds `object` (name, shape, local mesh, parent, pose set) as a node and a
-// part of `scene`; its name must be unique among parts, nodes and links.
+// part of `scene`; its name must be unique among parts, nodes and links, and
+// the scene may hold at most kMaxObjects.
 // The checked pairs are not derived again: call derive_pairs (scene_loader.h).
 void add_object(Scene& scene, WorldObject object, const ObjectPlace& at);
 

@@ -542,6 +542,7 @@ RobotSpec read_robot(const Reader& r, const Json& j, const Scene& scene, const S
 // name them) and the probes (which may be fixed to them or hit them).
 void read_objects(const Reader& r, const Json& list, Scene& scene) {
   if (!list.is_array()) r.error("objects", "expected an array");
+  if (list.size() > kMaxObjects) r.error("objects", "more than " + std::to_string(kMaxObjects) + " objects");
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string where = "objects[" + std::to_string(i) + "]";
     const ObjectPlace at{r.file(), where};

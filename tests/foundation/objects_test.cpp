@@ -4,6 +4,7 @@
 // place among the parts and pairs, and every bad input named by file and
 // objects[i].field.
 #include "src/scene/kinematics.h"
+#include "src/scene/objects.h"
 #include "src/scene/scene_loader.h"
 
 #include "tests/foundation/fixtures.h"
@@ -136,6 +137,9 @@ TEST_F(ObjectsTest, AllowedCollisionsAndProbesNameObjects) {
 
 TEST_F(ObjectsTest, BadObjectsNameFileAndField) {
   expect_error(R"({})", {"bad.json", "objects: expected an array"});
+  std::string many = "[";
+  for (std::size_t i = 0; i <= kMaxObjects; ++i) many += (i ? ", " : "") + std::string(R"({"name": "o)") + std::to_string(i) + R"(", "box": [1, 1, 1]})";
+  expect_error(many + "]", {"bad.json", "objects: more than 4096 objects"});
   expect_error(R"([{"box": [1, 1, 1]}])", {"bad.json", "objects[0].name: missing"});
   expect_error(R"([{"name": "A", "box": [1, 1, 1]}, {"name": "A", "sphere": 1}])",
                {"bad.json", "objects[1].name: 'A' is already the name of an object"});
