@@ -73,15 +73,23 @@ Mesh sphere_object(double radius, const ObjectPlace& at) {
 }
 
 Mesh mesh_object(const std::filesystem::path& file, const Vec3& scale, std::vector<std::string>& warnings,
-                 const ObjectPlace& at) {
+                 const ObjectPlace& at, std::map<std::filesystem::path, Mesh>* cache) {
   for (int k = 0; k < 3; ++k) positive_size(scale[k], at, "scale[" + std::to_string(k) + "]");
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) at.error("mesh", "cannot open " + file.string() + " (missing or not a file)");
   Mesh m;
-  try {
-    m = load_mesh(file, warnings);
-  } catch (const InputError& e) {
-    at.error("mesh", e.what());
+  const Mesh* read = nullptr;
+  if (cache != nullptr)
+    if (auto it = cache->find(file); it != cache->end()) read = &it->second;
+  if (read != nullptr) {
+    m = *read;
+  } else {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) at.error("mesh", "cannot open " + file.string() + " (missing or not a file)");
+    try {
+      m = load_mesh(file, warnings);
+    } catch (const InputError& e) {
+      at.error("mesh", e.what());
+    }
+    if (cache != nullptr) cache->emplace(file, m);
   }
   if (m.triangles.empty()) at.error("mesh", file.string() + " holds no triangles");
   for (Vec3& v : m.vertices) v = v.cwiseProduct(scale);

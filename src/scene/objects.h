@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -31,8 +32,9 @@ struct ObjectPlace {
 Mesh box_object(const Vec3& size, const ObjectPlace& at);
 Mesh cylinder_object(double radius, double length, const ObjectPlace& at);
 Mesh sphere_object(double radius, const ObjectPlace& at);
+// `cache` (optional): files read so far, so objects sharing a file read it once.
 Mesh mesh_object(const std::filesystem::path& file, const Vec3& scale, std::vector<std::string>& warnings,
-                 const ObjectPlace& at);
+                 const ObjectPlace& at, std::map<std::filesystem::path, Mesh>* cache = nullptr);
 
 // The pose of a URDF origin: translation xyz, then roll, pitch, yaw about
 // the fixed x, y, z axes (SI units).

@@ -543,6 +543,7 @@ RobotSpec read_robot(const Reader& r, const Json& j, const Scene& scene, const S
 void read_objects(const Reader& r, const Json& list, Scene& scene) {
   if (!list.is_array()) r.error("objects", "expected an array");
   if (list.size() > kMaxObjects) r.error("objects", "more than " + std::to_string(kMaxObjects) + " objects");
+  std::map<std::filesystem::path, Mesh> files;  // mesh files read so far
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string where = "objects[" + std::to_string(i) + "]";
     const ObjectPlace at{r.file(), where};
@@ -580,7 +581,7 @@ void read_objects(const Reader& r, const Json& list, Scene& scene) {
       o.mesh_file = r.file().parent_path() / file;
       const Vec3 scale = j.contains("scale") ? r.vec3(j["scale"], where + ".scale") : Vec3(1, 1, 1);
       // The file's own coordinates in length_unit, as the model's are.
-      local = mesh_object(o.mesh_file, scale * s, scene.warnings, at);
+      local = mesh_object(o.mesh_file, scale * s, scene.warnings, at, &files);
     }
     o.local = std::make_shared<const Mesh>(std::move(local));
     Vec3 xyz = Vec3::Zero(), rpy = Vec3::Zero();
