@@ -949,6 +949,32 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   }
 }
 
+void Checker::pair_crossings(const PosedParts& posed, std::size_t k, std::size_t max,
+                             std::vector<std::array<Vec3, 6>>& out) const {
+  out.clear();
+  const PairRef& p = pairs_[k];
+  if (p.empty || p.b == terrain_index_ || max == 0) return;
+  const std::size_t a = static_cast<std::size_t>(p.a), b = static_cast<std::size_t>(p.b);
+  const Box box_a{posed.box[a].first, posed.box[a].second};
+  const Box box_b{posed.box[b].first, posed.box[b].second};
+  if (box_gap2(box_a, box_b) > 0.0) return;
+  CollideResult r;
+  collide(models_[a], *posed.pose[a], models_[b], *posed.pose[b], CollideRequest{max}, r);
+  if (!r.collide) return;
+  auto corners = [&](std::size_t part, std::uint32_t t, Vec3* x) {
+    const auto& kept = (*kept_)[part];
+    const Mesh& mesh = scene_.parts[part].mesh;
+    const Tri& tri = mesh.triangles[kept.empty() ? t : kept[t]];
+    for (int c = 0; c < 3; ++c) x[c] = *posed.pose[part] * mesh.vertices[tri[static_cast<std::size_t>(c)]];
+  };
+  for (const auto& [ia, ib] : r.triangle_pairs) {
+    std::array<Vec3, 6> x;
+    corners(a, ia, x.data());
+    corners(b, ib, x.data() + 3);
+    out.push_back(x);
+  }
+}
+
 namespace {
 
 // The parameters an action reads (a mimic joint: its master's).

@@ -13,6 +13,7 @@
 #include "src/scene/plan.h"
 #include "src/scene/scene.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -304,6 +305,13 @@ class Checker {
   void pose_parts(const std::vector<double>& params, PosedParts& out, std::span<const int> parts = {}) const;
   bool pair_collides(const PosedParts& posed, std::size_t k) const;
   void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false) const;
+  // Up to `max` intersecting triangle pairs of pair k at this pose, as
+  // collide lists them, each as its six corners in the world frame as
+  // posed here (part a's three, then b's): what a contact certificate
+  // (src/geometry/crossing.h) is built from. Empty when they do not touch,
+  // and for a terrain pair (none listed).
+  void pair_crossings(const PosedParts& posed, std::size_t k, std::size_t max,
+                      std::vector<std::array<Vec3, 6>>& out) const;
   // The parameters (indices into Scene::parameter_names) the distance of
   // pair k depends on: those read by the actions of one part's chain and
   // not the other's. The relative pose of the two parts is a function of
