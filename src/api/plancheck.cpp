@@ -8,6 +8,7 @@
 // here before the public header is read, and only the aliases are used after.
 #include "src/base/error.h"
 #include "src/base/parallel.h"
+#include "src/scene/objects.h"
 #include "src/scene/scene_loader.h"
 #include "src/checks/continuous.h"
 #include "src/checks/verify.h"
@@ -22,6 +23,12 @@ using InputError = ::plancheck::InputError;
 using SceneOptions = ::plancheck::SceneOptions;
 using ::plancheck::hardware_threads;
 using ::plancheck::load_scene;
+using ::plancheck::derive_pairs;
+using ::plancheck::ObjectPlace;
+using ::plancheck::WorldObject;
+using ::plancheck::ObjectShape;
+using Mesh = ::plancheck::Mesh;
+using Vec3 = ::plancheck::Vec3;
 using ::plancheck::parallel_for;
 using ::plancheck::state_verdict;
 using ::plancheck::row_request;
@@ -36,6 +43,8 @@ using ContinuousOptions = ::plancheck::ContinuousOptions;
 
 #include <cmath>
 #include <exception>
+#include <map>
+#include <mutex>
 #include <utility>
 
 #ifndef PLANCHECK_VERSION
@@ -52,12 +61,46 @@ struct SceneData {
   std::vector<bool> is_factor;  // per parameter: a scale factor (must be positive)
 };
 
-struct CheckerData {
+// One version of the world: a scene and the structures built for it.
+struct Snapshot {
   std::shared_ptr<const SceneData> scene;  // the core checker refers to it
   std::unique_ptr<const plancheck_core::Checker> checker;
-  std::unique_ptr<const plancheck_core::SegmentChecker> segments;  // verify --continuous's defaults
   std::vector<std::string> part_names;
+  // Static objects moved since `scene` was made (a placement in `checker`
+  // only, nothing built): name -> pose in the parent's frame (SI).
+  std::map<std::string, ::plancheck::Affine> moved;
+  // verify --continuous's defaults, made by the first motion check of this version.
+  const plancheck_core::SegmentChecker& segments() const {
+    std::call_once(segments_made, [&] {
+      segments_ = std::make_unique<const plancheck_core::SegmentChecker>(*checker, scene->scene,
+                                                                          plancheck_core::ContinuousOptions{});
+    });
+    return *segments_;
+  }
+
+ private:
+  mutable std::once_flag segments_made;
+  mutable std::unique_ptr<const plancheck_core::SegmentChecker> segments_;
+};
+
+// What copies of a Checker share: the current version of the world, loaded
+// once by each check, batch or motion check (current()), and swapped whole
+// by a change (changes one at a time, under `change`).
+struct CheckerData {
   int threads = 1;
+  std::shared_ptr<const Snapshot> current() const {
+    std::lock_guard<std::mutex> lock(mutex);
+    return snapshot;
+  }
+  void publish(std::shared_ptr<const Snapshot> next) {
+    std::lock_guard<std::mutex> lock(mutex);
+    snapshot = std::move(next);
+  }
+  std::mutex change;  // serialises add/move/remove
+
+ private:
+  mutable std::mutex mutex;  // guards `snapshot` (the pointer, never what it points to)
+  std::shared_ptr<const Snapshot> snapshot;
 };
 
 }  // namespace detail
@@ -108,7 +151,7 @@ Verdict public_verdict(plancheck_core::Verdict v) {
 
 // One state, as verify's CSV row reports it (src/report.cpp) and as verify
 // ranks it (state_verdict).
-void check_one(const detail::CheckerData& d, const std::vector<double>& params, StateResult& out,
+void check_one(const detail::Snapshot& d, const std::vector<double>& params, StateResult& out,
                const CheckOptions& options) {
   plancheck_core::StateResult st;
   const plancheck_core::Scene& scene = d.scene->scene;
@@ -143,10 +186,10 @@ void check_one(const detail::CheckerData& d, const std::vector<double>& params, 
 // One motion, as verify --continuous ranks a two-state plan of it
 // (src/checks/plan_check.cpp, verify_segments): state 0's own violation,
 // then the segment's, then state 1's.
-void motion_one(const detail::CheckerData& d, const std::vector<double>& from, const std::vector<double>& to,
+void motion_one(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
                 MotionResult& out, const MotionOptions& options) {
   plancheck_core::StateResult sa, sb;
-  const plancheck_core::SegmentResult g = d.segments->check_motion(from, to, options.verdict_only, sa, sb);
+  const plancheck_core::SegmentResult g = d.segments().check_motion(from, to, options.verdict_only, sa, sb);
   const plancheck_core::Scene& scene = d.scene->scene;
   const double unit = scene.length_scale;
   out = MotionResult{};
@@ -239,25 +282,161 @@ double Scene::safety_margin() const { return data_->scene.safety_margin / data_-
 std::string Scene::length_unit() const { return data_->scene.length_unit; }
 std::string Scene::angle_unit() const { return data_->scene.angle_unit; }
 
+namespace {
+
+std::shared_ptr<const detail::Snapshot> build_snapshot(std::shared_ptr<const detail::SceneData> scene, int threads,
+                                                       const detail::Snapshot* earlier) {
+  auto d = std::make_shared<detail::Snapshot>();
+  d->scene = std::move(scene);
+  d->checker = std::make_unique<const plancheck_core::Checker>(d->scene->scene, threads, nullptr,
+                                                               earlier != nullptr ? earlier->checker.get() : nullptr);
+  for (std::size_t i = 0; i < d->checker->part_count(); ++i) d->part_names.push_back(d->checker->part_name(static_cast<int>(i)));
+  return d;
+}
+
+plancheck_core::ObjectPlace place_of(const std::string& name) { return {{}, "objects['" + name + "']"}; }
+
+// A world change: `edit` changes a copy of the current scene; the new
+// version shares every unchanged part's structure with the current one.
+template <class Edit>
+void change_world(detail::CheckerData& data, Edit&& edit) {
+  std::lock_guard<std::mutex> lock(data.change);
+  const std::shared_ptr<const detail::Snapshot> now = data.current();
+  auto scene = std::make_shared<detail::SceneData>(*now->scene);
+  translated([&] {
+    for (const auto& [name, pose] : now->moved) ::plancheck::move_object(scene->scene, name, pose, place_of(name));
+    // The API neither digs nor casts probes: a changed world builds neither.
+    scene->scene.probes.clear();
+    scene->scene.scoop.reset();
+    edit(scene->scene);
+    data.publish(build_snapshot(std::move(scene), data.threads, now.get()));
+  });
+}
+
+plancheck_core::WorldObject core_object(const plancheck_core::Scene& scene, const Object& o,
+                                        const plancheck_core::ObjectPlace& at) {
+  plancheck_core::WorldObject w;
+  w.name = o.name;
+  const double s = scene.length_scale;
+  plancheck_core::Mesh local;
+  switch (o.shape) {
+    case Object::Shape::kBox:
+      w.shape = plancheck_core::ObjectShape::kBox;
+      local = ::plancheck::box_object(plancheck_core::Vec3(o.box[0], o.box[1], o.box[2]) * s, at);
+      break;
+    case Object::Shape::kCylinder:
+      w.shape = plancheck_core::ObjectShape::kCylinder;
+      local = ::plancheck::cylinder_object(o.radius * s, o.length * s, at);
+      break;
+    case Object::Shape::kSphere:
+      w.shape = plancheck_core::ObjectShape::kSphere;
+      local = ::plancheck::sphere_object(o.radius * s, at);
+      break;
+    case Object::Shape::kMesh: {
+      w.shape = plancheck_core::ObjectShape::kMesh;
+      if (o.mesh.empty()) at.error("mesh", "empty path");
+      w.mesh_file = o.mesh;
+      std::vector<std::string> warnings;
+      local = ::plancheck::mesh_object(w.mesh_file, plancheck_core::Vec3(o.scale[0], o.scale[1], o.scale[2]) * s,
+                                       warnings, at);
+      break;
+    }
+    default:
+      at.error("shape", "unknown shape");
+  }
+  w.local = std::make_shared<const plancheck_core::Mesh>(std::move(local));
+  w.parent = ::plancheck::object_parent(scene, o.parent, at);
+  return w;
+}
+
+::plancheck::Affine core_pose(const plancheck_core::Scene& scene, const Pose& p, const plancheck_core::ObjectPlace& at) {
+  for (double v : p.xyz)
+    if (!std::isfinite(v)) at.error("pose.xyz", "not a finite number");
+  for (double v : p.rpy)
+    if (!std::isfinite(v)) at.error("pose.rpy", "not a finite number");
+  return ::plancheck::pose_of(plancheck_core::Vec3(p.xyz[0], p.xyz[1], p.xyz[2]) * scene.length_scale,
+                              plancheck_core::Vec3(p.rpy[0], p.rpy[1], p.rpy[2]) * scene.angle_scale);
+}
+
+}  // namespace
+
 Checker::Checker(const Scene& scene, int threads) {
   data_ = translated([&] {
     auto d = std::make_shared<detail::CheckerData>();
-    d->scene = scene.data_;
     d->threads = threads > 0 ? threads : plancheck_core::hardware_threads();
-    d->checker = std::make_unique<const plancheck_core::Checker>(d->scene->scene, d->threads);
-    d->segments = std::make_unique<const plancheck_core::SegmentChecker>(*d->checker, d->scene->scene,
-                                                                          plancheck_core::ContinuousOptions{});
-    for (std::size_t i = 0; i < d->checker->part_count(); ++i) d->part_names.push_back(d->checker->part_name(static_cast<int>(i)));
-    return std::shared_ptr<const detail::CheckerData>(std::move(d));
+    d->publish(build_snapshot(scene.data_, d->threads, nullptr));
+    return d;
   });
+}
+
+void Checker::add_object(const Object& object) {
+  change_world(*data_, [&](plancheck_core::Scene& scene) {
+    const plancheck_core::ObjectPlace at = place_of(object.name);
+    plancheck_core::WorldObject w = core_object(scene, object, at);
+    w.pose = core_pose(scene, object.pose, at);
+    ::plancheck::add_object(scene, std::move(w), at);
+    plancheck_core::derive_pairs(scene);
+  });
+}
+
+void Checker::move_object(const std::string& name, const Pose& pose) {
+  detail::CheckerData& data = *data_;
+  {
+    // A static object: a new placement in a copy of the current checker,
+    // whose every structure it shares (nothing is built).
+    std::lock_guard<std::mutex> lock(data.change);
+    const std::shared_ptr<const detail::Snapshot> now = data.current();
+    const plancheck_core::Scene& scene = now->scene->scene;
+    const plancheck_core::ObjectPlace at = place_of(name);
+    const bool moved = translated([&] {
+      const int i = ::plancheck::find_object(scene, name);
+      if (i < 0) at.error("", "no object named '" + name + "'");
+      const int part = scene.find_part(name);
+      if (scene.parts[static_cast<std::size_t>(part)].moving()) return false;
+      plancheck_core::WorldObject there = scene.objects[static_cast<std::size_t>(i)];
+      there.pose = core_pose(scene, pose, at);
+      const ::plancheck::Affine placement =
+          ::plancheck::object_frame(scene, there) *
+          ::plancheck::object_frame(scene, scene.objects[static_cast<std::size_t>(i)]).inverse(Eigen::Isometry);
+      if (!placement.matrix().allFinite()) at.error("pose", "not finite");
+      auto next = std::make_shared<detail::Snapshot>();
+      next->scene = now->scene;
+      next->checker = now->checker->with_placement(part, placement);
+      next->part_names = now->part_names;
+      next->moved = now->moved;
+      next->moved[name] = there.pose;
+      data.publish(std::move(next));
+      return true;
+    });
+    if (moved) return;
+  }
+  // An object on a moving node: its part is posed again and built.
+  change_world(data, [&](plancheck_core::Scene& scene) {
+    const plancheck_core::ObjectPlace at = place_of(name);
+    ::plancheck::move_object(scene, name, core_pose(scene, pose, at), at);
+  });
+}
+
+void Checker::remove_object(const std::string& name) {
+  change_world(*data_, [&](plancheck_core::Scene& scene) {
+    ::plancheck::remove_object(scene, name, place_of(name));
+    plancheck_core::derive_pairs(scene);
+  });
+}
+
+std::vector<std::string> Checker::object_names() const {
+  std::vector<std::string> out;
+  for (const auto& o : data_->current()->scene->scene.objects) out.push_back(o.name);
+  return out;
 }
 
 StateResult Checker::check(const std::vector<double>& state) const { return check(state, CheckOptions{}); }
 
 StateResult Checker::check(const std::vector<double>& state, const CheckOptions& options) const {
-  validate(*data_->scene, state.data(), state.size(), "state");
+  const auto now = data_->current();
+  validate(*now->scene, state.data(), state.size(), "state");
   StateResult out;
-  translated([&] { check_one(*data_, state, out, options); });
+  translated([&] { check_one(*now, state, out, options); });
   return out;
 }
 
@@ -268,8 +447,9 @@ std::vector<StateResult> Checker::check_batch(const std::vector<std::vector<doub
 std::vector<StateResult> Checker::check_batch(const std::vector<std::vector<double>>& states,
                                               const CheckOptions& options) const {
   const std::size_t n = parameter_count();
+  const auto now = data_->current();
   for (std::size_t i = 0; i < states.size(); ++i)
-    validate(*data_->scene, states[i].data(), states[i].size(), "state " + std::to_string(i));
+    validate(*now->scene, states[i].data(), states[i].size(), "state " + std::to_string(i));
   std::vector<double> rows;
   rows.reserve(states.size() * n);
   for (const auto& s : states) rows.insert(rows.end(), s.begin(), s.end());
@@ -285,7 +465,8 @@ void Checker::check_batch(const double* states, std::size_t count, StateResult* 
 void Checker::check_batch(const double* states, std::size_t count, StateResult* out,
                           const CheckOptions& options) const {
   const std::size_t n = parameter_count();
-  for (std::size_t i = 0; i < count; ++i) validate(*data_->scene, states + i * n, n, "state " + std::to_string(i));
+  const auto now = data_->current();  // the whole batch on one version of the world
+  for (std::size_t i = 0; i < count; ++i) validate(*now->scene, states + i * n, n, "state " + std::to_string(i));
   // States are independent (no coherence seed between them), so out[i] is
   // check(state i) bit for bit whatever the thread count. Small chunks: a
   // state costs tens of microseconds or more.
@@ -294,7 +475,7 @@ void Checker::check_batch(const double* states, std::size_t count, StateResult* 
       std::vector<double> params(n);
       for (std::size_t i = begin; i < end; ++i) {
         params.assign(states + i * n, states + (i + 1) * n);
-        check_one(*data_, params, out[i], options);
+        check_one(*now, params, out[i], options);
       }
     });
   });
@@ -302,10 +483,11 @@ void Checker::check_batch(const double* states, std::size_t count, StateResult* 
 
 MotionResult Checker::check_motion(const std::vector<double>& from, const std::vector<double>& to,
                                    const MotionOptions& options) const {
-  validate(*data_->scene, from.data(), from.size(), "from");
-  validate(*data_->scene, to.data(), to.size(), "to");
+  const auto now = data_->current();  // the whole motion on one version of the world
+  validate(*now->scene, from.data(), from.size(), "from");
+  validate(*now->scene, to.data(), to.size(), "to");
   MotionResult out;
-  translated([&] { motion_one(*data_, from, to, out, options); });
+  translated([&] { motion_one(*now, from, to, out, options); });
   return out;
 }
 
@@ -319,9 +501,10 @@ std::vector<MotionResult> Checker::check_motion_batch(const std::vector<std::vec
   std::vector<double> a, b;
   a.reserve(from.size() * n);
   b.reserve(to.size() * n);
+  const auto now = data_->current();
   for (std::size_t i = 0; i < from.size(); ++i) {
-    validate(*data_->scene, from[i].data(), from[i].size(), "from " + std::to_string(i));
-    validate(*data_->scene, to[i].data(), to[i].size(), "to " + std::to_string(i));
+    validate(*now->scene, from[i].data(), from[i].size(), "from " + std::to_string(i));
+    validate(*now->scene, to[i].data(), to[i].size(), "to " + std::to_string(i));
     a.insert(a.end(), from[i].begin(), from[i].end());
     b.insert(b.end(), to[i].begin(), to[i].end());
   }
@@ -333,9 +516,10 @@ std::vector<MotionResult> Checker::check_motion_batch(const std::vector<std::vec
 void Checker::check_motion_batch(const double* from, const double* to, std::size_t count, MotionResult* out,
                                  const MotionOptions& options) const {
   const std::size_t n = parameter_count();
+  const auto now = data_->current();  // every motion of the batch on one version of the world
   for (std::size_t i = 0; i < count; ++i) {
-    validate(*data_->scene, from + i * n, n, "from " + std::to_string(i));
-    validate(*data_->scene, to + i * n, n, "to " + std::to_string(i));
+    validate(*now->scene, from + i * n, n, "from " + std::to_string(i));
+    validate(*now->scene, to + i * n, n, "to " + std::to_string(i));
   }
   // Motions are independent: out[i] is check_motion(i) whatever the thread
   // count. One motion per chunk: a motion costs from one to thousands of checks.
@@ -345,16 +529,16 @@ void Checker::check_motion_batch(const double* from, const double* to, std::size
       for (std::size_t i = begin; i < end; ++i) {
         a.assign(from + i * n, from + (i + 1) * n);
         b.assign(to + i * n, to + (i + 1) * n);
-        motion_one(*data_, a, b, out[i], options);
+        motion_one(*now, a, b, out[i], options);
       }
     });
   });
 }
 
-Scene Checker::scene() const { return Scene(data_->scene); }
+Scene Checker::scene() const { return Scene(data_->current()->scene); }
 
-const std::vector<std::string>& Checker::part_names() const { return data_->part_names; }
-std::size_t Checker::parameter_count() const { return data_->scene->scene.parameter_names.size(); }
+std::vector<std::string> Checker::part_names() const { return data_->current()->part_names; }
+std::size_t Checker::parameter_count() const { return data_->current()->scene->scene.parameter_names.size(); }
 int Checker::threads() const { return data_->threads; }
 
 }  // namespace v0

@@ -96,7 +96,18 @@ bool same_search(const StateSeed::Search& last, const Affine& ta, const Affine& 
 
 }  // namespace
 
-Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : scene_(scene), motion_(scene) {
+namespace {
+
+bool same_mesh(const Mesh& a, const Mesh& b) {
+  return a.vertices.size() == b.vertices.size() && a.triangles.size() == b.triangles.size() &&
+         std::memcmp(a.vertices.data(), b.vertices.data(), a.vertices.size() * sizeof(Vec3)) == 0 &&
+         std::memcmp(a.triangles.data(), b.triangles.data(), a.triangles.size() * sizeof(Tri)) == 0;
+}
+
+}  // namespace
+
+Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const Checker* reuse)
+    : scene_(scene), motion_(scene) {
   std::vector<const Mesh*> meshes;
   for (const Part& p : scene.parts) {
     names_.push_back(p.name);
@@ -112,7 +123,11 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   const bool dug = terrain && scene.scoop;
   if (terrain) {
     const Dem& dem = *scene.terrain->grid;
-    terrain_ = std::make_unique<const Heightfield>(dem, scene.terrain->origin);
+    if (reuse != nullptr && reuse->terrain_ && reuse->scene_.terrain && reuse->scene_.terrain->grid == scene.terrain->grid &&
+        reuse->scene_.terrain->origin == scene.terrain->origin)
+      terrain_ = reuse->terrain_;  // the same grid at the same place
+    else
+      terrain_ = std::make_shared<const Heightfield>(dem, scene.terrain->origin);
     if (!dug) terrain_mesh = dem_mesh(dem, scene.terrain->origin);
     names_.push_back("terrain");
     meshes.push_back(&terrain_mesh);
@@ -151,7 +166,7 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   // nothing would run beside the pruning: it runs first, on every thread.
   // A part's box is found beside its BVH.
   std::vector<Mesh> pruned;
-  kept_.resize(meshes.size());
+  kept_->resize(meshes.size());
   const int job_threads = threads > 0 ? threads : hardware_threads();
   const std::size_t probe_jobs = scene.probes.empty() ? 0 : 1;
   const std::size_t prune_jobs = probe_jobs > 0 && job_threads > 1 ? 1 : 0;
@@ -172,7 +187,7 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   const std::size_t jobs = probe_jobs + prune_jobs + part_count;
   const auto run_job = [&](std::size_t job) {
     if (job < probe_jobs) {
-      probes_ = std::make_unique<const ProbeCaster>(scene);
+      probes_ = std::make_shared<const ProbeCaster>(scene);
     } else if (job < probe_jobs + prune_jobs) {
       struct CountDown {
         std::latch& latch;
@@ -182,7 +197,11 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
     } else {
       const std::size_t part = order[job - probe_jobs - prune_jobs];
       if (chain_of_[part] < 0) pruning_done.wait();
-      if (auto data = ahead != nullptr ? ahead->find(*meshes[part]) : nullptr)
+      const int earlier = reuse != nullptr ? reuse->scene_.find_part(scene.parts[part].name) : -1;
+      if (earlier >= 0 && (*reuse->kept_)[static_cast<std::size_t>(earlier)] == (*kept_)[part] &&
+          same_mesh(reuse->scene_.parts[static_cast<std::size_t>(earlier)].mesh, scene.parts[part].mesh))
+        built[part].emplace(reuse->models_[static_cast<std::size_t>(earlier)].shared_data());
+      else if (auto data = ahead != nullptr ? ahead->find(*meshes[part]) : nullptr)
         built[part].emplace(std::move(data));  // built from this very mesh (BuiltAhead)
       else
         built[part].emplace(*meshes[part]);
@@ -212,6 +231,7 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
   }
   for (std::size_t i = 0; i < in_pair.size(); ++i)
     if (in_pair[i]) guard_parts_.push_back(static_cast<int>(i));
+  placement_.assign(models_.size(), Affine::Identity());
   for (const Box& b : boxes) {
     local_boxes_.emplace_back(b.lo, b.hi);
     // Static parts never move: their world box (the very value a state
@@ -233,7 +253,27 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead) : sce
     else
       static_magnitude_ = std::max(static_magnitude_, std::max(mag(static_boxes_[p].first, static_boxes_[p].second), local_magnitude_[p]));
   }
-  if (scene.scoop && scene.terrain) digger_ = std::make_unique<const Digger>(scene);
+  if (scene.scoop && scene.terrain) digger_ = std::make_shared<const Digger>(scene);
+}
+
+std::unique_ptr<const Checker> Checker::with_placement(int part, const Affine& placement) const {
+  const std::size_t p = static_cast<std::size_t>(part);
+  if (part < 0 || p >= scene_.parts.size() || chain_of_[p] >= 0 ||
+      !scene_.nodes[static_cast<std::size_t>(scene_.parts[p].node)].object || !(*kept_)[p].empty())
+    throw std::logic_error("with_placement: not a static world object kept whole");
+  std::unique_ptr<Checker> c(new Checker(*this));
+  c->placement_[p] = placement;
+  const Box w = posed_box({local_boxes_[p].first, local_boxes_[p].second}, placement);
+  c->static_boxes_[p] = {w.lo, w.hi};
+  // The guard's static magnitude again, as the constructor folds it.
+  auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
+  c->static_magnitude_ = terrain_magnitude_;
+  for (int i : guard_parts_) {
+    const std::size_t q = static_cast<std::size_t>(i);
+    if (chain_of_[q] < 0)
+      c->static_magnitude_ = std::max(c->static_magnitude_, std::max(mag(c->static_boxes_[q].first, c->static_boxes_[q].second), local_magnitude_[q]));
+  }
+  return c;
 }
 
 // Soundness: let U bound the state's minimum distance from above in every
@@ -248,6 +288,9 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
   const std::size_t n = meshes.size();
   storage.resize(n);  // before any pointer into it is taken
   std::vector<std::vector<int>> partners(n);
+  const auto is_object = [&](std::size_t p) {
+    return p < scene.parts.size() && scene.nodes[static_cast<std::size_t>(scene.parts[p].node)].object;
+  };
   for (const PairRef& p : pairs_) {
     if (chain_of_[static_cast<std::size_t>(p.b)] < 0) partners[static_cast<std::size_t>(p.b)].push_back(p.a);
     if (chain_of_[static_cast<std::size_t>(p.a)] < 0) partners[static_cast<std::size_t>(p.a)].push_back(p.b);
@@ -279,7 +322,8 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
   std::vector<double> part_upper(n, std::numeric_limits<double>::infinity());
   parallel_for(n, threads, 1, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t s = begin; s < end; ++s) {
-      if (chain_of_[s] >= 0) continue;
+      // A world object may move (with_placement): the bound must hold wherever it stands.
+      if (chain_of_[s] >= 0 || is_object(s)) continue;
       std::vector<std::pair<Vec3, double>> nearest_to;  // per distinct centre
       for (int m : partners[s]) {
         const Reach& rm = reach[static_cast<std::size_t>(m)];
@@ -305,6 +349,7 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
   parallel_for(n, threads, 1, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t s = begin; s < end; ++s) {
       if (chain_of_[s] >= 0 || static_cast<int>(s) == terrain_index_) continue;  // the heightfield culls itself
+      if (is_object(s)) continue;  // a world object may move (with_placement): all of it stays
       const Mesh& mesh = *meshes[s];
       // The partners by centre, each centre with its partners' largest
       // r_max: the gap below only shrinks as r_max grows (rounding is
@@ -344,7 +389,7 @@ std::size_t Checker::prune_static(const Scene& scene, std::vector<const Mesh*>& 
       out.vertices = mesh.vertices;
       out.triangles.reserve(keep.size());
       for (std::uint32_t t : keep) out.triangles.push_back(mesh.triangles[t]);
-      kept_[s] = std::move(keep);
+      (*kept_)[s] = std::move(keep);
       meshes[s] = &out;
     }
   });
@@ -436,7 +481,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       pose[i] = &chains[static_cast<std::size_t>(chain_of_[i])];
       box[i] = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *pose[i]);
     } else {
-      pose[i] = &kIdentity;
+      pose[i] = &placement_[i];
       box[i] = {static_boxes_[i].first, static_boxes_[i].second};
     }
   }
@@ -584,8 +629,8 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
         collide(models_[a], *pose[a], models_[b], *pose[b], collide_request(), r);
       if (r.collide) {
         // Back to mesh triangle indices where triangles were left out.
-        const auto& ka = kept_[static_cast<std::size_t>(a)];
-        const auto& kb = on_terrain ? kNoKept : kept_[static_cast<std::size_t>(b)];
+        const auto& ka = (*kept_)[static_cast<std::size_t>(a)];
+        const auto& kb = on_terrain ? kNoKept : (*kept_)[static_cast<std::size_t>(b)];
         for (auto& [i, j] : r.triangle_pairs) {
           if (!ka.empty()) i = ka[i];
           if (!kb.empty()) j = kb[j];
@@ -838,7 +883,6 @@ Vec3 Checker::target_point(const std::vector<double>& params) const {
 // ---- Pair by pair (the sweep's certified regions) ----
 
 void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std::span<const int> parts) const {
-  static const Affine kIdentity = Affine::Identity();
   const std::size_t n = models_.size();
   out.pose.resize(n);
   out.box.resize(n);
@@ -849,7 +893,7 @@ void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std
       const Box b = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *out.pose[i]);
       out.box[i] = {b.lo, b.hi};
     } else {
-      out.pose[i] = &kIdentity;
+      out.pose[i] = &placement_[i];
       out.box[i] = static_boxes_[i];
     }
   };
@@ -965,7 +1009,7 @@ void Checker::pair_crossings(const PosedParts& posed, std::size_t k, std::size_t
   collide(models_[a], *posed.pose[a], models_[b], *posed.pose[b], CollideRequest{max}, r);
   if (!r.collide) return;
   auto corners = [&](std::size_t part, std::uint32_t t, Vec3* x) {
-    const auto& kept = kept_[part];
+    const auto& kept = (*kept_)[part];
     const Mesh& mesh = scene_.parts[part].mesh;
     const Tri& tri = mesh.triangles[kept.empty() ? t : kept[t]];
     for (int c = 0; c < 3; ++c) x[c] = *posed.pose[part] * mesh.vertices[tri[static_cast<std::size_t>(c)]];

@@ -247,7 +247,12 @@ class Checker {
  public:
   // `ahead`: structures built while the model was imported (built_ahead.h),
   // taken for the parts whose meshes they were built from; may be null.
-  explicit Checker(const Scene& scene, int threads = 0, const BuiltAhead* ahead = nullptr);
+  // `reuse`: a checker of an earlier version of the scene (world objects
+  // changed, src/scene/objects.h): a part of the same name whose mesh is
+  // bitwise the same, with the same triangles left out, shares its
+  // structure instead of building it again; so does the terrain on the same grid.
+  explicit Checker(const Scene& scene, int threads = 0, const BuiltAhead* ahead = nullptr,
+                   const Checker* reuse = nullptr);
 
   // Names of the checked parts: Scene::parts, then "terrain" when present.
   const std::string& part_name(int index) const { return names_[static_cast<std::size_t>(index)]; }
@@ -302,6 +307,13 @@ class Checker {
   // Whether verify_plans checks the terrain pairs against the dug terrain:
   // the scene digs (scoop and terrain) and some pair involves the terrain.
   bool terrain_is_dug() const { return digger_ && terrain_ && has_terrain_pairs_; }
+
+  // A copy of this checker in which static part `part`, a world object
+  // (src/scene/objects.h) that no build left triangles out of, stands at
+  // `placement` times its mesh in the scene (its structure, and every
+  // other, shared; nothing is built). Answers are those of a scene whose
+  // mesh of that part is posed so, up to the rounding of the posing.
+  std::unique_ptr<const Checker> with_placement(int part, const Affine& placement) const;
 
   // The pairs in contact (touching or intersecting) at the reference pose.
   std::vector<PairContact> reference_contacts() const;
@@ -368,7 +380,7 @@ class Checker {
   const Scene& scene_;
   std::vector<std::string> names_;
   std::vector<CollisionModel> models_;  // one per scene part (the terrain is terrain_)
-  std::unique_ptr<const Heightfield> terrain_;  // the undisturbed terrain, when it collides
+  std::shared_ptr<const Heightfield> terrain_;  // the undisturbed terrain, when it collides
   int terrain_index_ = -1;                      // its index in names_
   // Parts in some checked pair, and twice the terrain's largest coordinate
   // (0 without terrain pairs): what the verdict-only cutoff scales with.
@@ -387,12 +399,19 @@ class Checker {
   std::vector<PairRef> pairs_;
   // Per checked part: model triangle index -> mesh triangle index, when
   // triangles were left out (empty: the identity).
-  std::vector<std::vector<std::uint32_t>> kept_;
+  // Shared, never changed after the build (copies made by with_placement share it).
+  std::shared_ptr<std::vector<std::vector<std::uint32_t>>> kept_ =
+      std::make_shared<std::vector<std::vector<std::uint32_t>>>();
+  // Per part: where it stands beyond its chain. The identity, but for a
+  // static world object moved at run time (with_placement): its structure
+  // stays the one built at its pose in the scene, placed by this.
+  std::vector<Affine> placement_;
   std::size_t left_out_ = 0;
   MotionBound motion_;  // how far parts can move between two states (cached separations)
   // Built once with the collision structures, only when the scene needs them.
-  std::unique_ptr<const Digger> digger_;        // scoop and terrain
-  std::unique_ptr<const ProbeCaster> probes_;   // probes (an Embree scene)
+  std::shared_ptr<const Digger> digger_;        // scoop and terrain
+  std::shared_ptr<const ProbeCaster> probes_;   // probes (an Embree scene)
+  Checker(const Checker&) = default;            // with_placement's copy: every structure shared
 
  public:
   const Digger* digger() const { return digger_.get(); }

@@ -24,12 +24,14 @@ class CollisionModel {
   // Takes a structure build_collision_data made (shared, never changed).
   explicit CollisionModel(std::shared_ptr<const CollisionModelData> data);
   ~CollisionModel();
+  CollisionModel(const CollisionModel&) = default;  // shares the structure
   CollisionModel(CollisionModel&&) noexcept;
   CollisionModel& operator=(CollisionModel&&) noexcept;
 
   std::size_t triangle_count() const;
   std::size_t memory_bytes() const;     // all collision structures of this part
   const CollisionModelData& data() const { return *data_; }
+  const std::shared_ptr<const CollisionModelData>& shared_data() const { return data_; }
 
  private:
   std::shared_ptr<const CollisionModelData> data_;

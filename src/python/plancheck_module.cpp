@@ -6,6 +6,7 @@
 // checked on all the scene's threads with the GIL released; bad input raises
 // plancheck.Error (a ValueError) with the message `plancheck verify` prints
 // for the same input.
+#include <algorithm>
 #include <plancheck/plancheck.h>
 
 #include <pybind11/numpy.h>
@@ -130,8 +131,49 @@ class PyScene {
       certified(i) = m.certified;
       steps(i) = static_cast<std::int64_t>(m.steps);
     }
-    r.part_names = py::cast(checker_->part_names());
+    r.part_names = names_for(results, r.part_a, r.part_b);
     return r;
+  }
+
+  // World objects (plancheck.h, Checker::add_object): exactly one shape.
+  using Pose = std::array<std::array<double, 3>, 2>;
+  void add_object(const std::string& name, const std::optional<std::array<double, 3>>& box,
+                  const std::optional<std::array<double, 2>>& cylinder, const std::optional<double>& sphere,
+                  const std::optional<std::filesystem::path>& mesh, const Pose& pose,
+                  const std::optional<std::string>& parent, const std::array<double, 3>& scale) {
+    plancheck::Object o;
+    o.name = name;
+    const int shapes = int(box.has_value()) + int(cylinder.has_value()) + int(sphere.has_value()) + int(mesh.has_value());
+    if (shapes != 1)
+      throw plancheck::Error("objects['" + name + "']: give exactly one of box, cylinder, sphere, mesh (got " +
+                             std::to_string(shapes) + ")");
+    if (box) {
+      o.shape = plancheck::Object::Shape::kBox;
+      o.box = *box;
+    } else if (cylinder) {
+      o.shape = plancheck::Object::Shape::kCylinder;
+      o.radius = (*cylinder)[0];
+      o.length = (*cylinder)[1];
+    } else if (sphere) {
+      o.shape = plancheck::Object::Shape::kSphere;
+      o.radius = *sphere;
+    } else {
+      o.shape = plancheck::Object::Shape::kMesh;
+      o.mesh = mesh->string();
+    }
+    o.scale = scale;
+    o.pose = {pose[0], pose[1]};
+    o.parent = parent.value_or("");
+    py::gil_scoped_release release;  // builds the object's structure
+    checker_->add_object(o);
+  }
+  void move_object(const std::string& name, const Pose& pose) {
+    py::gil_scoped_release release;
+    checker_->move_object(name, {pose[0], pose[1]});
+  }
+  void remove_object(const std::string& name) {
+    py::gil_scoped_release release;
+    checker_->remove_object(name);
   }
 
   PyResult check(const py::handle& states_in, bool verdict_only) const {
@@ -173,11 +215,42 @@ class PyScene {
         qb(i, k) = s.point_b[static_cast<std::size_t>(k)];
       }
     }
-    r.part_names = py::cast(checker_->part_names());
+    r.part_names = names_for(results, r.part_a, r.part_b);
     return r;
   }
 
  private:
+  // The names part_a/part_b index: the current world's parts, unless a
+  // change (from another thread, while the batch ran without the GIL)
+  // renumbered them; then the names the results carry, and their indices
+  // into that list.
+  template <class Result>
+  py::list names_for(const std::vector<Result>& results, py::array_t<std::int32_t>& a,
+                     py::array_t<std::int32_t>& b) const {
+    std::vector<std::string> names = checker_->part_names();
+    auto ia = a.mutable_unchecked<1>();
+    auto ib = b.mutable_unchecked<1>();
+    auto agrees = [&](int i, const std::string& n) {
+      return i < 0 || (static_cast<std::size_t>(i) < names.size() && names[static_cast<std::size_t>(i)] == n);
+    };
+    bool same = true;
+    for (std::size_t i = 0; i < results.size() && same; ++i)
+      same = agrees(results[i].part_a_index, results[i].part_a) && agrees(results[i].part_b_index, results[i].part_b);
+    if (same) return py::cast(names);
+    names.clear();
+    auto index = [&](int i, const std::string& n) -> std::int32_t {
+      if (i < 0) return -1;
+      auto it = std::find(names.begin(), names.end(), n);
+      if (it == names.end()) it = names.insert(names.end(), n);
+      return static_cast<std::int32_t>(it - names.begin());
+    };
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      ia(static_cast<py::ssize_t>(i)) = index(results[i].part_a_index, results[i].part_a);
+      ib(static_cast<py::ssize_t>(i)) = index(results[i].part_b_index, results[i].part_b);
+    }
+    return py::cast(names);
+  }
+
   static std::string shape_text(const py::array& a) {
     std::string s = "(";
     for (py::ssize_t d = 0; d < a.ndim(); ++d) s += (d ? ", " : "") + std::to_string(a.shape(d));
@@ -275,6 +348,22 @@ PYBIND11_MODULE(_plancheck, m) {
       .def_property_readonly("length_unit", [](const PyScene& s) { return s.scene().length_unit(); })
       .def_property_readonly("angle_unit", [](const PyScene& s) { return s.scene().angle_unit(); })
       .def_property_readonly("threads", [](const PyScene& s) { return s.checker().threads(); })
+      .def_property_readonly("object_names", [](const PyScene& s) { return s.checker().object_names(); },
+                             "world objects in order: the scene file's, then those added")
+      .def("add_object", &PyScene::add_object, py::arg("name"), py::kw_only(), py::arg("box") = py::none(),
+           py::arg("cylinder") = py::none(), py::arg("sphere") = py::none(), py::arg("mesh") = py::none(),
+           py::arg("pose") = PyScene::Pose{}, py::arg("parent") = py::none(),
+           py::arg("scale") = std::array<double, 3>{1.0, 1.0, 1.0},
+           "Adds a world object, as the scene file's `objects` (one shape: box=(x, y, z) full edge\n"
+           "lengths; cylinder=(radius, length) along local z; sphere=radius; mesh=path with scale),\n"
+           "pose=((x, y, z), (roll, pitch, yaw)) in length_unit and angle_unit (fixed axes, as URDF) in\n"
+           "the frame of parent (a node or robot link it moves with; None: the world). Builds that\n"
+           "object's structure only. Checks started after it see it; none sees half of it.")
+      .def("move_object", &PyScene::move_object, py::arg("name"), py::arg("pose"),
+           "Moves a world object to pose ((x, y, z), (roll, pitch, yaw)) in its parent's frame\n"
+           "(nothing is rebuilt for an object on a static node).")
+      .def("remove_object", &PyScene::remove_object, py::arg("name"),
+           "Removes a world object (the scene file's too).")
       .def("check", &PyScene::check, py::arg("states"), py::arg("verdict_only") = false,
            "Checks each row of `states` (2-D, columns parameter_names, plan units as written) as an\n"
            "independent state on the scene's initial terrain, on all threads without the GIL.\n"

@@ -496,6 +496,7 @@ std::vector<std::pair<int, int>> add_robot(const RobotSpec& spec, Scene& scene) 
     node.parent = parent;
     node.path = scene.nodes[parent].path + "/" + link->name;
     node.origin = t.translation();
+    node.axes = t.linear();
     node.robot_link = true;
     const int index = static_cast<int>(scene.nodes.size());
     scene.nodes[parent].children.push_back(index);

@@ -43,6 +43,11 @@ struct Node {
   std::vector<int> actions;    // indices into Scene::actions carried by this node
   Vec3 origin = Vec3::Zero();  // the node's own frame origin at the reference pose (m)
   bool robot_link = false;     // a URDF link: allowed_collisions naming it means exactly this link
+  // The node's frame axes at the reference pose: a robot link's (its joint
+  // origins' rotations); a model node's are the reference frame's. A world
+  // object's pose (objects.h) is given in the frame (origin, axes).
+  Mat3 axes = Mat3::Identity();
+  bool object = false;         // a world object's node (src/scene/objects.h)
 };
 
 enum class ActionType { kRotate, kTranslateAxis, kTranslateFree, kScale };
@@ -90,6 +95,29 @@ struct CheckedPair {
 };
 
 struct Dem;  // terrain.h
+
+enum class ObjectShape { kBox, kCylinder, kSphere, kMesh };
+
+// A world object (scene-format.md "World objects"): its shape in its own
+// frame, and where that frame stands. The part it is holds the shape posed
+// in the reference frame (Part::mesh).
+struct WorldObject {
+  std::string name;
+  ObjectShape shape = ObjectShape::kBox;
+  std::shared_ptr<const Mesh> local;  // the shape in its own frame (m), shared by copies
+  std::filesystem::path mesh_file;    // kMesh: the file read
+  int parent = 0;                     // index into Scene::nodes (0: the root, i.e. the world)
+  Affine pose = Affine::Identity();   // in the parent node's frame (m)
+};
+
+// What allowed_collisions and an SRDF declared, kept so the checked pairs can
+// be derived again when world objects change (resolve_pairs in
+// scene_loader.h): node pairs as allowed_collisions names them (-1: the
+// terrain), part pairs as the SRDF names links.
+struct AllowedRules {
+  std::vector<std::pair<int, int>> nodes;
+  std::vector<std::pair<int, int>> parts;
+};
 
 struct TerrainConfig {
   std::filesystem::path dem;   // resolved against the scene file's folder
@@ -179,6 +207,8 @@ struct Scene {
   std::optional<ScoopConfig> scoop;
   std::vector<ProbeConfig> probes;
   std::optional<RobotInfo> robot;    // the scene's robot (URDF), if any
+  std::vector<WorldObject> objects;  // scene file's `objects`, then those added at run time
+  AllowedRules allowed;              // what checked_pairs was derived from
 
   std::vector<std::string> warnings;  // non-fatal load remarks (ignored primitives, ...)
 

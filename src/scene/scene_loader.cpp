@@ -9,6 +9,7 @@
 #include "src/base/files.h"
 #include "src/base/text.h"
 #include "src/scene/model_loader.h"
+#include "src/scene/objects.h"
 #include "src/scene/robot_loader.h"
 #include "src/scene/terrain.h"
 #include "src/scene/terrain_window.h"
@@ -290,6 +291,7 @@ void read_actions(const Reader& r, const Json& list, Scene& scene) {
 // one node carrying several actions (of different kinds) they keep the order
 // of the scene file, so the first listed is applied last (outermost).
 void resolve_chains(Scene& scene) {
+  scene.chains.clear();
   for (std::size_t p = 0; p < scene.parts.size(); ++p) {
     Part& part = scene.parts[p];
     std::vector<int> path;
@@ -329,15 +331,12 @@ std::vector<int> named_parts(const Scene& scene, int node) {
   return subtree_parts(scene, node);
 }
 
-void resolve_pairs(const Reader& r, const Json* allowed_json, Scene& scene,
-                   const std::vector<std::pair<int, int>>& robot_allowed = {}) {
-  const std::size_t n = scene.parts.size();
-  std::vector<bool> allowed(n * n, false);  // symmetric, one bit per part pair
-  for (const auto& [a, b] : robot_allowed) {
-    allowed[static_cast<std::size_t>(a) * n + static_cast<std::size_t>(b)] = true;
-    allowed[static_cast<std::size_t>(b) * n + static_cast<std::size_t>(a)] = true;
-  }
-  std::set<int> terrain_allowed;
+// allowed_collisions (and the SRDF's part pairs) -> scene.allowed, then the
+// checked pairs derived from it (derive_pairs).
+void read_allowed(const Reader& r, const Json* allowed_json, Scene& scene,
+                  const std::vector<std::pair<int, int>>& robot_allowed = {}) {
+  scene.allowed.parts = robot_allowed;
+  scene.allowed.nodes.clear();
   if (allowed_json != nullptr) {
     if (!allowed_json->is_array()) r.error("allowed_collisions", "expected an array of [node, node] pairs");
     for (std::size_t i = 0; i < allowed_json->size(); ++i) {
@@ -345,24 +344,38 @@ void resolve_pairs(const Reader& r, const Json* allowed_json, Scene& scene,
       const Json& pair = (*allowed_json)[i];
       if (!pair.is_array() || pair.size() != 2) r.error(where, "expected a pair [node, node]");
       std::string names[2] = {r.string(pair[0], where + "[0]"), r.string(pair[1], where + "[1]")};
-      bool is_terrain[2];
-      std::vector<int> sets[2];
+      int nodes[2];
       for (int k = 0; k < 2; ++k) {
-        is_terrain[k] = scene.terrain.has_value() && names[k] == kTerrainName;
-        if (!is_terrain[k])
-          sets[k] = named_parts(scene, find_node(r, scene, names[k], where + "[" + std::to_string(k) + "]"));
+        const bool is_terrain = scene.terrain.has_value() && names[k] == kTerrainName;
+        nodes[k] = is_terrain ? -1 : find_node(r, scene, names[k], where + "[" + std::to_string(k) + "]");
       }
-      if (is_terrain[0] && is_terrain[1]) r.error(where, "the terrain cannot be paired with itself");
-      if (is_terrain[0] || is_terrain[1]) {
-        for (int p : sets[is_terrain[0] ? 1 : 0]) terrain_allowed.insert(p);
-        continue;
-      }
-      for (int a : sets[0])
-        for (int b : sets[1]) {
-          allowed[static_cast<std::size_t>(a) * n + static_cast<std::size_t>(b)] = true;
-          allowed[static_cast<std::size_t>(b) * n + static_cast<std::size_t>(a)] = true;
-        }
+      if (nodes[0] < 0 && nodes[1] < 0) r.error(where, "the terrain cannot be paired with itself");
+      scene.allowed.nodes.emplace_back(nodes[0], nodes[1]);
     }
+  }
+  derive_pairs(scene);
+}
+
+}  // namespace
+
+void derive_pairs(Scene& scene) {
+  resolve_chains(scene);
+  const std::size_t n = scene.parts.size();
+  std::vector<bool> allowed(n * n, false);  // symmetric, one bit per part pair
+  auto allow = [&](int a, int b) {
+    allowed[static_cast<std::size_t>(a) * n + static_cast<std::size_t>(b)] = true;
+    allowed[static_cast<std::size_t>(b) * n + static_cast<std::size_t>(a)] = true;
+  };
+  for (const auto& [a, b] : scene.allowed.parts) allow(a, b);
+  std::set<int> terrain_allowed;
+  for (const auto& [na, nb] : scene.allowed.nodes) {
+    if (na < 0 || nb < 0) {
+      for (int p : named_parts(scene, na < 0 ? nb : na)) terrain_allowed.insert(p);
+      continue;
+    }
+    const std::vector<int> sa = named_parts(scene, na), sb = named_parts(scene, nb);
+    for (int a : sa)
+      for (int b : sb) allow(a, b);
   }
   scene.terrain_allowed_parts.assign(terrain_allowed.begin(), terrain_allowed.end());
   scene.checked_pairs.clear();
@@ -377,6 +390,8 @@ void resolve_pairs(const Reader& r, const Json* allowed_json, Scene& scene,
     }
   }
 }
+
+namespace {
 
 int find_part_or_fail(const Reader& r, const Scene& scene, const std::string& name, const std::string& where) {
   int p = scene.find_part(name);
@@ -512,11 +527,7 @@ RobotSpec read_robot(const Reader& r, const Json& j, const Scene& scene, const S
     Vec3 xyz = Vec3::Zero(), rpy = Vec3::Zero();
     if (o.contains("xyz")) xyz = r.vec3(o["xyz"], "robot.origin.xyz");
     if (o.contains("rpy")) rpy = r.vec3(o["rpy"], "robot.origin.rpy");
-    // URDF's convention: roll about x, then pitch about y, then yaw about z (fixed axes).
-    spec.origin = Affine::Identity();
-    spec.origin.translate(xyz);
-    spec.origin.rotate(Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
-                       Eigen::AngleAxisd(rpy.x(), Vec3::UnitX()));
+    spec.origin = pose_of(xyz, rpy);
   }
   if (j.contains("padding")) {
     spec.padding = r.number(j["padding"], "robot.padding");
@@ -524,6 +535,66 @@ RobotSpec read_robot(const Reader& r, const Json& j, const Scene& scene, const S
   }
   if (j.contains("scale")) spec.scale = positive(r, j["scale"], "robot.scale");
   return spec;
+}
+
+// The scene's `objects`: each a part (src/scene/objects.h), after the
+// model, the robot and the actions, before allowed_collisions (which may
+// name them) and the probes (which may be fixed to them or hit them).
+void read_objects(const Reader& r, const Json& list, Scene& scene) {
+  if (!list.is_array()) r.error("objects", "expected an array");
+  if (list.size() > kMaxObjects) r.error("objects", "more than " + std::to_string(kMaxObjects) + " objects");
+  std::map<std::filesystem::path, Mesh> files;  // mesh files read so far
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string where = "objects[" + std::to_string(i) + "]";
+    const ObjectPlace at{r.file(), where};
+    const Json& j = list[i];
+    r.check_keys(j, where, {"name", "box", "cylinder", "sphere", "mesh", "scale", "pose", "parent"});
+    if (!j.contains("name")) r.error(where + ".name", "missing");
+    WorldObject o;
+    o.name = r.string(j["name"], where + ".name");
+    int shapes = 0;
+    for (const char* key : {"box", "cylinder", "sphere", "mesh"}) shapes += j.contains(key) ? 1 : 0;
+    if (shapes != 1)
+      r.error(where, shapes == 0 ? "no shape (give one of box, cylinder, sphere, mesh)"
+                                 : "more than one shape (give one of box, cylinder, sphere, mesh)");
+    if (j.contains("scale") && !j.contains("mesh")) r.error(where + ".scale", "only a mesh has a scale");
+    const double s = scene.length_scale;
+    Mesh local;
+    if (j.contains("box")) {
+      o.shape = ObjectShape::kBox;
+      local = box_object(r.vec3(j["box"], where + ".box") * s, at);
+    } else if (j.contains("cylinder")) {
+      o.shape = ObjectShape::kCylinder;
+      const Json& c = j["cylinder"];
+      r.check_keys(c, where + ".cylinder", {"radius", "length"});
+      for (const char* key : {"radius", "length"})
+        if (!c.contains(key)) r.error(where + ".cylinder." + key, "missing");
+      local = cylinder_object(r.number(c["radius"], where + ".cylinder.radius") * s,
+                              r.number(c["length"], where + ".cylinder.length") * s, at);
+    } else if (j.contains("sphere")) {
+      o.shape = ObjectShape::kSphere;
+      local = sphere_object(r.number(j["sphere"], where + ".sphere") * s, at);
+    } else {
+      o.shape = ObjectShape::kMesh;
+      const std::string file = r.string(j["mesh"], where + ".mesh");
+      if (file.empty()) r.error(where + ".mesh", "empty path");
+      o.mesh_file = r.file().parent_path() / file;
+      const Vec3 scale = j.contains("scale") ? r.vec3(j["scale"], where + ".scale") : Vec3(1, 1, 1);
+      // The file's own coordinates in length_unit, as the model's are.
+      local = mesh_object(o.mesh_file, scale * s, scene.warnings, at, &files);
+    }
+    o.local = std::make_shared<const Mesh>(std::move(local));
+    Vec3 xyz = Vec3::Zero(), rpy = Vec3::Zero();
+    if (j.contains("pose")) {
+      const Json& p = j["pose"];
+      r.check_keys(p, where + ".pose", {"xyz", "rpy"});
+      if (p.contains("xyz")) xyz = r.vec3(p["xyz"], where + ".pose.xyz") * s;
+      if (p.contains("rpy")) rpy = r.vec3(p["rpy"], where + ".pose.rpy") * scene.angle_scale;
+    }
+    o.pose = pose_of(xyz, rpy);
+    o.parent = j.contains("parent") ? object_parent(scene, r.string(j["parent"], where + ".parent"), at) : -1;
+    add_object(scene, std::move(o), at);
+  }
 }
 
 bool is_urdf(const std::filesystem::path& file) {
@@ -579,8 +650,7 @@ Scene load_scene_unguarded(const std::filesystem::path& scene_json, const SceneO
     const auto allowed = add_robot(spec, scene);
     if (scene.parts.empty()) fail(scene_json, "the robot has no geometry (no link has a collision element)");
     check_names(scene);
-    resolve_chains(scene);
-    resolve_pairs(Reader(scene_json), nullptr, scene, allowed);
+    read_allowed(Reader(scene_json), nullptr, scene, allowed);
     return scene;
   }
   if (!options.srdf.empty()) fail(scene_json, "--srdf is for a bare .urdf; a scene file names its SRDF in robot.srdf");
@@ -594,7 +664,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& scene_js
   const Json root = parse_json(text, scene_json);
   r.check_keys(root, "",
                {"format", "model", "length_unit", "angle_unit", "actions", "allowed_collisions", "safety_margin",
-                "terrain", "scoop", "probes", "robot"});
+                "terrain", "scoop", "probes", "robot", "objects"});
   if (!root.contains("format")) r.error("format", "missing (expected \"plancheck-scene/1\")");
   const std::string format = r.string(root["format"], "format");
   if (format != "plancheck-scene/1") r.error("format", "unsupported format '" + format + "' (expected plancheck-scene/1)");
@@ -639,8 +709,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& scene_js
     r.error("terrain", "the model has a part named 'terrain', which clashes with the terrain block");
   check_names(scene);
   if (root.contains("actions")) read_actions(r, root["actions"], scene);
-  resolve_chains(scene);
-  resolve_pairs(r, root.contains("allowed_collisions") ? &root["allowed_collisions"] : nullptr, scene, robot_allowed);
+  if (root.contains("objects")) read_objects(r, root["objects"], scene);
+  read_allowed(r, root.contains("allowed_collisions") ? &root["allowed_collisions"] : nullptr, scene, robot_allowed);
   if (root.contains("scoop")) read_scoop(r, root["scoop"], scene);
   if (root.contains("probes")) read_probes(r, root["probes"], scene);
   // The DEM is read once, here, after every check of the scene file itself,

@@ -43,4 +43,9 @@ Scene load_scene(const std::filesystem::path& scene_json, const SceneOptions& op
 Scene parse_scene(const std::string& text, const std::filesystem::path& scene_json,
                   const SceneOptions& options = {});
 
+// Chains and checked pairs derived from the scene's parts, actions and
+// allowed rules (Scene::allowed): what loading does once the parts are
+// known, and again after world objects change (src/scene/objects.h).
+void derive_pairs(Scene& scene);
+
 }  // namespace plancheck

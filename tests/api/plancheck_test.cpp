@@ -13,6 +13,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <functional>
+#include <set>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -728,4 +731,345 @@ TEST(ApiDataset, MotionsEqualVerifyContinuous) {
               urdf_kinds[2], urdf_kinds[3]);
   EXPECT_GT(urdf_kinds[0], 0u);
   EXPECT_GT(urdf_kinds[1] + urdf_kinds[2], 0u);
+}
+
+// ---- World objects (scene-format.md "World objects", Embedding) ----
+
+namespace {
+
+// The bar scene with `objects` (a JSON array's text) and allowed_collisions.
+void write_bar_scene_with(const fs::path& dir, const std::string& objects, const std::string& allowed = "") {
+  write_bar_scene(dir, 1.0, "m");
+  std::string j = read_text(dir / "scene.json");
+  j.pop_back();  // the closing brace
+  if (!objects.empty()) j += R"(, "objects": )" + objects;
+  if (!allowed.empty()) j += R"(, "allowed_collisions": )" + allowed;
+  write_text(dir / "scene.json", j + "}");
+}
+
+plancheck::Object box_object(const std::string& name, std::array<double, 3> size, std::array<double, 3> xyz,
+                             std::array<double, 3> rpy = {}, const std::string& parent = "") {
+  plancheck::Object o;
+  o.name = name;
+  o.shape = plancheck::Object::Shape::kBox;
+  o.box = size;
+  o.pose = {xyz, rpy};
+  o.parent = parent;
+  return o;
+}
+
+plancheck::Object sphere_object(const std::string& name, double radius, std::array<double, 3> xyz) {
+  plancheck::Object o;
+  o.name = name;
+  o.shape = plancheck::Object::Shape::kSphere;
+  o.radius = radius;
+  o.pose.xyz = xyz;
+  return o;
+}
+
+void expect_same(const plancheck::StateResult& a, const plancheck::StateResult& b, const std::string& what) {
+  EXPECT_EQ(a.collision, b.collision) << what;
+  EXPECT_EQ(a.min_distance, b.min_distance) << what;
+  EXPECT_EQ(a.part_a, b.part_a) << what;
+  EXPECT_EQ(a.part_b, b.part_b) << what;
+  EXPECT_EQ(a.verdict, b.verdict) << what;
+}
+
+// Distance between two axis-aligned boxes (lo, hi): the slow obvious reference.
+double box_distance(std::array<double, 3> alo, std::array<double, 3> ahi, std::array<double, 3> blo,
+                    std::array<double, 3> bhi) {
+  double s = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double gap = std::max({0.0, blo[k] - ahi[k], alo[k] - bhi[k]});
+    s += gap * gap;
+  }
+  return std::sqrt(s);
+}
+
+const std::string kBarObjects = R"([
+  {"name": "Rock", "box": [0.2, 0.3, 0.4], "pose": {"xyz": [1, 0.5, 1.6], "rpy": [10, 20, 30]}},
+  {"name": "Pole", "cylinder": {"radius": 0.05, "length": 1.2}, "pose": {"xyz": [-1, 0.4, 0.6], "rpy": [0, 90, 0]}},
+  {"name": "Ball", "sphere": 0.1, "pose": {"xyz": [1.5, 0, 0.5]}},
+  {"name": "Crate", "mesh": "crate.obj", "scale": [2, 1, 0.5], "pose": {"xyz": [2.5, 0, 0.3]}},
+  {"name": "Tag", "box": [0.1, 0.1, 0.1], "parent": "Bar", "pose": {"xyz": [1, 0, 0.5]}}])";
+
+void add_bar_objects(plancheck::Checker& c, const fs::path& dir) {
+  c.add_object(box_object("Rock", {0.2, 0.3, 0.4}, {1, 0.5, 1.6}, {10, 20, 30}));
+  plancheck::Object pole;
+  pole.name = "Pole";
+  pole.shape = plancheck::Object::Shape::kCylinder;
+  pole.radius = 0.05;
+  pole.length = 1.2;
+  pole.pose = {{-1, 0.4, 0.6}, {0, 90, 0}};
+  c.add_object(pole);
+  c.add_object(sphere_object("Ball", 0.1, {1.5, 0, 0.5}));
+  plancheck::Object crate;
+  crate.name = "Crate";
+  crate.shape = plancheck::Object::Shape::kMesh;
+  crate.mesh = (dir / "crate.obj").string();
+  crate.scale = {2, 1, 0.5};
+  crate.pose.xyz = {2.5, 0, 0.3};
+  c.add_object(crate);
+  c.add_object(box_object("Tag", {0.1, 0.1, 0.1}, {1, 0, 0.5}, {}, "Bar"));
+}
+
+void write_crate(const fs::path& dir) {
+  int base = 0;
+  write_text(dir / "crate.obj", obj_box("Crate", {-0.1, -0.1, -0.1}, {0.1, 0.1, 0.1}, base));
+}
+
+}  // namespace
+
+// The scene file's objects and the same objects added at run time are the
+// same parts: state by state the same answers (exactly), and the same motions.
+TEST(Api, ObjectsInJsonEqualObjectsAddedAtRunTime) {
+  TempDir a, b;
+  write_crate(a.path);
+  write_bar_scene_with(a.path, kBarObjects);
+  write_bar_scene(b.path, 1.0, "m");
+  const plancheck::Checker json(plancheck::Scene::load((a.path / "scene.json").string()), 2);
+  plancheck::Checker run(plancheck::Scene::load((b.path / "scene.json").string()), 2);
+  add_bar_objects(run, a.path);
+  const std::vector<std::string> objects = {"Rock", "Pole", "Ball", "Crate", "Tag"};
+  EXPECT_EQ(json.object_names(), objects);
+  EXPECT_EQ(run.object_names(), objects);
+  EXPECT_EQ(json.part_names(), run.part_names());
+  std::vector<std::vector<double>> states;
+  for (int i = 0; i <= 240; ++i) states.push_back({-90.0 + 0.5 * i});
+  const auto ra = json.check_batch(states), rb = run.check_batch(states);
+  std::set<std::string> named;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    expect_same(ra[i], rb[i], "state " + std::to_string(i));
+    named.insert(ra[i].part_b);
+  }
+  // The objects decide answers here (not only the slab).
+  EXPECT_TRUE(named.count("Ball") && named.count("Rock")) << named.size();
+  for (std::size_t i = 0; i + 10 < states.size(); i += 10) {
+    const auto ma = json.check_motion(states[i], states[i + 10]), mb = run.check_motion(states[i], states[i + 10]);
+    EXPECT_EQ(ma.verdict, mb.verdict) << i;
+    EXPECT_EQ(ma.min_distance, mb.min_distance) << i;
+    EXPECT_EQ(ma.part_b, mb.part_b) << i;
+  }
+}
+
+// The default dataset with objects in its scene file equals the same objects
+// added at run time, on random states.
+TEST(ApiDataset, ObjectsInJsonEqualObjectsAddedAtRunTime) {
+  const fs::path data = kBinary / "test-dataset";
+  TempDir t;
+  nlohmann::json j = nlohmann::json::parse(read_text(data / "scene.json"));
+  j.erase("scoop");
+  j.erase("probes");
+  j["model"] = (data / j["model"].get<std::string>()).string();
+  if (j.contains("terrain")) j["terrain"]["dem"] = (data / j["terrain"]["dem"].get<std::string>()).string();
+  write_text(t.path / "plain.json", j.dump());
+  j["objects"] = nlohmann::json::parse(R"([
+    {"name": "Rock1", "box": [0.3, 0.2, 0.15], "pose": {"xyz": [2.9, 0.1, 0.07], "rpy": [0, 0, 30]}},
+    {"name": "Ball", "sphere": 0.25, "pose": {"xyz": [2.0, 0.5, 1.6]}},
+    {"name": "Bag", "box": [0.05, 0.05, 0.08], "parent": "Scoop", "pose": {"xyz": [0, 0, 0.06]}}])");
+  write_text(t.path / "objects.json", j.dump());
+  const plancheck::Checker json(plancheck::Scene::load((t.path / "objects.json").string()), 2);
+  plancheck::Checker run(plancheck::Scene::load((t.path / "plain.json").string()), 2);
+  run.add_object(box_object("Rock1", {0.3, 0.2, 0.15}, {2.9, 0.1, 0.07}, {0, 0, 30}));
+  run.add_object(sphere_object("Ball", 0.25, {2.0, 0.5, 1.6}));
+  run.add_object(box_object("Bag", {0.05, 0.05, 0.08}, {0, 0, 0.06}, {}, "Scoop"));
+  EXPECT_EQ(json.part_names(), run.part_names());
+  std::vector<std::vector<double>> states;
+  for (const auto& [from, to] : random_motions(json.scene(), 100, 32)) {
+    states.push_back(from);
+    states.push_back(to);
+  }
+  const auto ra = json.check_batch(states), rb = run.check_batch(states);
+  std::size_t object_pairs = 0;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    expect_same(ra[i], rb[i], "state " + std::to_string(i));
+    for (const std::string& n : {"Rock1", "Ball", "Bag"}) object_pairs += ra[i].part_a == n || ra[i].part_b == n;
+  }
+  EXPECT_GT(object_pairs, 0u);  // some state's closest pair is an object's
+}
+
+// A moved object is seen at its new pose only, against the analytic distance
+// of two axis-aligned boxes (the bar at 0 degrees and the object).
+TEST(Api, MovedObjectIsSeenAtItsNewPoseOnly) {
+  TempDir t;
+  write_bar_scene(t.path, 1.0, "m");
+  plancheck::Checker c(plancheck::Scene::load((t.path / "scene.json").string()), 1);
+  // The OBJ's coordinates are read as floats.
+  const double f01 = static_cast<float>(0.1), f09 = static_cast<float>(0.9), f11 = static_cast<float>(1.1);
+  const std::array<double, 3> bar_lo{0, -f01, f09}, bar_hi{2, f01, f11};
+  const std::vector<double> level = {0.0};
+  const double slab = f09;  // the bar's bottom above the slab's top
+  EXPECT_EQ(c.check(level).part_b, "Slab");
+  const std::array<std::array<double, 3>, 4> centres = {{{1, 0, 1.5}, {2.3, 0.4, 1.0}, {1, 0, 1.25}, {0.5, 0, 1.0}}};
+  const std::array<double, 3> size{0.2, 0.4, 0.2};
+  c.add_object(box_object("Cube", size, centres[0], {0, 0, 180}));
+  for (std::size_t k = 0; k < centres.size(); ++k) {
+    if (k > 0) c.move_object("Cube", {centres[k], {0, 0, 180}});
+    std::array<double, 3> lo, hi;
+    for (int i = 0; i < 3; ++i) {
+      lo[static_cast<std::size_t>(i)] = centres[k][static_cast<std::size_t>(i)] - size[static_cast<std::size_t>(i)] / 2;
+      hi[static_cast<std::size_t>(i)] = centres[k][static_cast<std::size_t>(i)] + size[static_cast<std::size_t>(i)] / 2;
+    }
+    const double d = box_distance(bar_lo, bar_hi, lo, hi);
+    const plancheck::StateResult r = c.check(level);
+    EXPECT_EQ(r.collision, d == 0.0) << k;
+    EXPECT_NEAR(r.min_distance, std::min(d, slab), 1e-12) << k;
+    EXPECT_EQ(r.part_b, d < slab ? "Cube" : "Slab") << k;
+    EXPECT_EQ(c.object_names(), std::vector<std::string>{"Cube"});
+  }
+  // A later change that builds (an added object) keeps the moved one where it was moved to.
+  const plancheck::StateResult moved = c.check(level);
+  c.add_object(box_object("Far", {0.1, 0.1, 0.1}, {-2.5, 0, 3}));
+  expect_same(moved, c.check(level), "after an added object");
+  c.remove_object("Far");
+  c.remove_object("Cube");
+  EXPECT_TRUE(c.object_names().empty());
+  EXPECT_EQ(c.check(level).part_b, "Slab");
+  EXPECT_NEAR(c.check(level).min_distance, slab, 1e-12);
+}
+
+// An object on the bar's node moves with it: its lowest corner above the
+// slab, rotated about the pivot (0, 0, 1) by the right-hand rotation about
+// +y, is the analytic distance (the bar's own is the other candidate).
+TEST(Api, AttachedObjectsMoveWithTheirNode) {
+  TempDir t;
+  write_bar_scene_with(t.path, R"([{"name": "Tag", "box": [0.1, 0.1, 0.1], "parent": "Bar", "pose": {"xyz": [1, 0, 0.5]}}])");
+  const plancheck::Checker c(plancheck::Scene::load((t.path / "scene.json").string()), 1);
+  const double pi = 3.14159265358979323846;
+  auto lowest = [&](double deg, std::array<double, 3> lo, std::array<double, 3> hi) {
+    const double a = deg * pi / 180, s = std::sin(a), co = std::cos(a);
+    double z = INFINITY;
+    for (int i = 0; i < 8; ++i) {
+      const double x = i & 1 ? hi[0] : lo[0], zr = (i & 4 ? hi[2] : lo[2]) - 1.0;
+      z = std::min(z, -s * x + co * zr + 1.0);
+    }
+    return z;
+  };
+  for (double deg : {-40.0, -10.0, 0.0, 15.0, 20.0, 24.0}) {
+    const double tag = lowest(deg, {0.95, -0.05, 0.45}, {1.05, 0.05, 0.55});
+    const double bar = lowest(deg, {0, -0.1, static_cast<float>(0.9)}, {2, 0.1, static_cast<float>(1.1)});  // OBJ floats
+    const plancheck::StateResult r = c.check({deg});
+    EXPECT_NEAR(r.min_distance, std::max(0.0, std::min(tag, bar)), 1e-12) << deg;
+    EXPECT_EQ(r.part_a, tag < bar ? "Tag" : "Bar") << deg;
+    EXPECT_EQ(r.part_b, "Slab") << deg;
+  }
+  // Moved at run time on its node, it equals the scene file holding it there.
+  TempDir u;
+  write_bar_scene_with(u.path, R"([{"name": "Tag", "box": [0.1, 0.1, 0.1], "parent": "Bar", "pose": {"xyz": [1.5, 0, 0.7], "rpy": [0, 0, 45]}}])");
+  const plancheck::Checker there(plancheck::Scene::load((u.path / "scene.json").string()), 1);
+  plancheck::Checker moved(plancheck::Scene::load((t.path / "scene.json").string()), 1);
+  moved.move_object("Tag", {{1.5, 0, 0.7}, {0, 0, 45}});
+  for (double deg : {-40.0, 0.0, 20.0, 26.0}) expect_same(there.check({deg}), moved.check({deg}), std::to_string(deg));
+}
+
+// allowed_collisions naming an object drops its pairs; the bar's subtree
+// holds the attached object.
+TEST(Api, AllowedCollisionsNameObjects) {
+  TempDir t, u;
+  const std::string objects = R"([{"name": "Block", "box": [0.5, 0.5, 0.5], "pose": {"xyz": [1, 0, 1]}},
+    {"name": "Tag", "box": [0.1, 0.1, 0.1], "parent": "Bar", "pose": {"xyz": [1, 0, 0.5]}}])";
+  write_bar_scene_with(t.path, objects);
+  write_bar_scene_with(u.path, objects, R"([["Block", "Bar"], ["Slab", "Bar"]])");
+  const plancheck::Checker all(plancheck::Scene::load((t.path / "scene.json").string()), 1);
+  const plancheck::Checker allowed(plancheck::Scene::load((u.path / "scene.json").string()), 1);
+  const plancheck::StateResult r = all.check({0.0}), s = allowed.check({0.0});
+  EXPECT_TRUE(r.collision);
+  EXPECT_EQ(r.part_b, "Block");
+  // [Block, Bar] allows Block against Bar and Tag; [Slab, Bar] Slab against both: no pair is left.
+  EXPECT_FALSE(s.collision);
+  EXPECT_TRUE(std::isinf(s.min_distance));
+}
+
+// verify on a scene with objects names the object part in its report.
+TEST(Api, VerifyReportsObjectParts) {
+  TempDir t;
+  write_bar_scene_with(t.path, R"([{"name": "Rock", "box": [0.2, 0.2, 0.2], "pose": {"xyz": [1.5, 0, 0.5]}}])");
+  write_text(t.path / "p.csv", "J1\n0\n10\n25\n");
+  ASSERT_EQ(run_verify("\"" + (t.path / "scene.json").string() + "\" \"" + (t.path / "p.csv").string() +
+                       "\" --continuous --out \"" + (t.path / "out").string() + "\""), 1);
+  const std::string report = read_text(t.path / "out" / "report.json");
+  EXPECT_NE(report.find("\"Rock\""), std::string::npos);
+  const nlohmann::json j = nlohmann::json::parse(report);
+  EXPECT_NE(j.dump().find("collision"), std::string::npos);
+}
+
+TEST(Api, ObjectErrorsThrowAndChangeNothing) {
+  TempDir t;
+  write_bar_scene_with(t.path, R"([{"name": "Rock", "box": [0.2, 0.2, 0.2], "pose": {"xyz": [1.5, 0, 0.5]}}])");
+  plancheck::Checker c(plancheck::Scene::load((t.path / "scene.json").string()), 1);
+  const plancheck::StateResult before = c.check({0.0});
+  auto expect_error = [&](const std::function<void()>& f, const std::string& part) {
+    try {
+      f();
+      ADD_FAILURE() << "no Error for " << part;
+    } catch (const plancheck::Error& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  };
+  expect_error([&] { c.add_object(box_object("Rock", {1, 1, 1}, {})); }, "objects['Rock'].name: 'Rock' is already");
+  expect_error([&] { c.add_object(box_object("Slab", {1, 1, 1}, {})); }, "'Slab' is already");
+  expect_error([&] { c.add_object(box_object("B", {1, -1, 1}, {})); }, "objects['B'].box[1]: must be a positive");
+  expect_error([&] { c.add_object(box_object("B", {1, NAN, 1}, {})); }, "box[1]: must be a positive finite");
+  expect_error([&] { c.add_object(box_object("B", {1, 1, 1}, {}, {}, "Nowhere")); }, "parent: no node or link named 'Nowhere'");
+  expect_error([&] { c.add_object(box_object("B", {1, 1, 1}, {}, {}, "Rock")); }, "is a world object");
+  expect_error([&] { c.add_object(box_object("B", {1, 1, 1}, {INFINITY, 0, 0})); }, "pose.xyz: not a finite number");
+  plancheck::Object m;
+  m.name = "M";
+  m.shape = plancheck::Object::Shape::kMesh;
+  m.mesh = (t.path / "missing.stl").string();
+  expect_error([&] { c.add_object(m); }, "objects['M'].mesh: cannot open");
+  expect_error([&] { c.move_object("Nothing", {}); }, "no object named 'Nothing'");
+  expect_error([&] { c.remove_object("Slab"); }, "no object named 'Slab'");
+  EXPECT_EQ(c.object_names(), std::vector<std::string>{"Rock"});
+  expect_same(before, c.check({0.0}), "after the errors");
+  // An object of the scene file may be removed (and added again).
+  c.remove_object("Rock");
+  EXPECT_TRUE(c.object_names().empty());
+  c.add_object(box_object("Rock", {0.2, 0.2, 0.2}, {1.5, 0, 0.5}));
+  expect_same(before, c.check({0.0}), "added again");
+}
+
+// Concurrency rule: a batch sees the world before a change or after it,
+// never a mix. One thread moves an object back and forth while another runs
+// batches; every batch equals one of the two worlds' answers entirely.
+TEST(Api, ConcurrentObjectMovesNeverShowHalfAChange) {
+  TempDir t;
+  write_bar_scene(t.path, 1.0, "m");
+  plancheck::Checker c(plancheck::Scene::load((t.path / "scene.json").string()), 2);
+  const plancheck::Pose near{{1, 0, 1.3}, {}}, far{{1, 0, 3}, {}};
+  c.add_object(box_object("Cube", {0.2, 0.2, 0.2}, near.xyz));
+  std::vector<std::vector<double>> states;
+  for (int i = 0; i < 200; ++i) states.push_back({-60.0 + 0.4 * i});
+  const auto at_near = c.check_batch(states);
+  c.move_object("Cube", far);
+  const auto at_far = c.check_batch(states);
+  auto same = [&](const std::vector<plancheck::StateResult>& a, const std::vector<plancheck::StateResult>& b) {
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (a[i].min_distance != b[i].min_distance || a[i].part_b != b[i].part_b || a[i].collision != b[i].collision)
+        return false;
+    return true;
+  };
+  ASSERT_FALSE(same(at_near, at_far));
+  // The mover keeps moving until the batches are done, so they overlap; it
+  // ends on `far`.
+  std::atomic<bool> stop{false};
+  std::atomic<int> moves{0};
+  std::thread mover([&] {
+    for (int k = 0; !stop || k % 2 == 1; ++k) {
+      c.move_object("Cube", k % 2 ? far : near);
+      ++moves;
+    }
+  });
+  int mixed = 0, seen_near = 0, seen_far = 0;
+  for (int b = 0; b < 100; ++b) {
+    const auto r = c.check_batch(states);
+    const bool n = same(r, at_near), f = same(r, at_far);
+    mixed += !(n || f);
+    seen_near += n;
+    seen_far += f;
+  }
+  stop = true;
+  mover.join();
+  EXPECT_EQ(mixed, 0) << seen_near << " batches saw near, " << seen_far << " far, " << moves << " moves";
+  EXPECT_TRUE(same(c.check_batch(states), at_far));  // the last move (k = 29) was to `far`
 }

@@ -2,8 +2,9 @@
 // Planning with OMPL on plancheck (<plancheck/ompl.h>), as a planning user
 // does it: RRTConnect with plancheck's state validity checker and certified
 // motion validator, on the default arm and on the URDF example's arm on the
-// same lander, for start/goal pairs whose straight motion is not safe (the
-// lander is in the way); each path is simplified, written as a plan CSV and
+// same lander with a world object (a box) beside it, for start/goal pairs
+// whose straight motion is not safe (the lander, or the box, is in the
+// way); each path is simplified, written as a plan CSV and
 // checked by `plancheck verify --continuous`, which must find every path
 // safe. Exit 0 when all is well, 1 with a message otherwise.
 //
@@ -62,8 +63,10 @@ std::vector<double> values(const ob::State* s, std::size_t n) {
 
 // Plans `queries` start/goal pairs on `scene` into OUT/<name>/qK.csv, then
 // verifies them all with verify --continuous.
+// `obstacle` (a part name, "" for any): the straight motion of every query
+// meets that part first.
 void plan_and_verify(const std::string& name, const fs::path& scene_path, const std::string& plancheck,
-                     const fs::path& out, int queries) {
+                     const fs::path& out, int queries, const std::string& obstacle = "") {
   const auto t0 = std::chrono::steady_clock::now();
   // The ten lines a planning user needs.
   auto checker = std::make_shared<plancheck::Checker>(plancheck::Scene::load(scene_path.string()));
@@ -92,8 +95,9 @@ void plan_and_verify(const std::string& name, const fs::path& scene_path, const 
     for (int tries = 0; tries < 100000 && !found; ++tries) {
       sampler->sampleUniform(start.get());
       sampler->sampleUniform(goal.get());
-      found = si->isValid(start.get()) && si->isValid(goal.get()) &&
-              checker->check_motion(values(start.get(), n), values(goal.get(), n)).verdict != plancheck::Verdict::kSafe;
+      if (!si->isValid(start.get()) || !si->isValid(goal.get())) continue;
+      const plancheck::MotionResult m = checker->check_motion(values(start.get(), n), values(goal.get(), n));
+      found = m.verdict != plancheck::Verdict::kSafe && (obstacle.empty() || m.part_a == obstacle || m.part_b == obstacle);
     }
     if (!found) return fail(name + ": no start/goal pair with an obstacle in the way");
     ss.clear();
@@ -153,13 +157,17 @@ int main(int argc, char** argv) {
     plan_and_verify("default-arm", nodig, plancheck, out, 2);
     fs::remove(nodig);
 
-    // The URDF example's survey arm on the same lander.
+    // The URDF example's survey arm on the same lander, with a world object
+    // (a 0.12 x 0.12 x 0.6 m box, the scene file's `objects`) in its way:
+    // every query's straight motion meets the box.
     nlohmann::json urdf = nlohmann::json::parse(read_text(example / "scene.json"));
+    urdf["objects"] = nlohmann::json::parse(
+        R"([{"name": "Post", "box": [0.12, 0.12, 0.6], "pose": {"xyz": [0.95, -0.45, 1.75], "rpy": [0, 0, 0.3]}}])");
     urdf["model"] = (data / scene["model"].get<std::string>()).string();
     urdf["robot"]["urdf"] = (example / urdf["robot"]["urdf"].get<std::string>()).string();
     urdf["robot"]["srdf"] = (example / urdf["robot"]["srdf"].get<std::string>()).string();
     write_text(out / "urdf-scene.json", urdf.dump(2));
-    plan_and_verify("urdf-arm", out / "urdf-scene.json", plancheck, out, 4);
+    plan_and_verify("urdf-arm", out / "urdf-scene.json", plancheck, out, 4, "Post");
   } catch (const std::exception& e) {
     fail(std::string("error: ") + e.what());
   }

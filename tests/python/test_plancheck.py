@@ -226,6 +226,54 @@ class ModuleTest(unittest.TestCase):
             self.assertEqual("plancheck: %s\n" % caught.exception, err, name)
             self.assertIsInstance(caught.exception, ValueError)
 
+    def test_world_objects_at_run_time(self):
+        # The same objects in the scene file and added at run time give the
+        # same answers; a moved object is seen at its new pose only; errors
+        # raise plancheck.Error (a ValueError) naming the object and field.
+        plain = write_bar_scene(self.dir)
+        text = json.loads(plain.read_text())
+        text["objects"] = [
+            {"name": "Rock", "box": [0.2, 0.4, 0.2], "pose": {"xyz": [1, 0, 1.35], "rpy": [0, 0, 30]}},
+            {"name": "Ball", "sphere": 0.1, "pose": {"xyz": [1.5, 0, 0.5]}},
+            {"name": "Pole", "cylinder": {"radius": 0.05, "length": 1.2}, "pose": {"xyz": [-1, 0.4, 0.6]}},
+            {"name": "Tag", "box": [0.1, 0.1, 0.1], "parent": "Bar", "pose": {"xyz": [1, 0, 0.5]}}]
+        with_objects = self.dir / "objects.json"
+        with_objects.write_text(json.dumps(text))
+        json_scene = plancheck.Scene(with_objects, threads=1)
+        run = plancheck.Scene(plain, threads=1)
+        run.add_object("Rock", box=[0.2, 0.4, 0.2], pose=((1, 0, 1.35), (0, 0, 30)))
+        run.add_object("Ball", sphere=0.1, pose=((1.5, 0, 0.5), (0, 0, 0)))
+        run.add_object("Pole", cylinder=(0.05, 1.2), pose=((-1, 0.4, 0.6), (0, 0, 0)))
+        run.add_object("Tag", box=(0.1, 0.1, 0.1), pose=((1, 0, 0.5), (0, 0, 0)), parent="Bar")
+        self.assertEqual(run.object_names, ["Rock", "Ball", "Pole", "Tag"])
+        self.assertEqual(run.object_names, json_scene.object_names)
+        states = np.linspace(-90, 30, 121)
+        a, b = json_scene.check(states.reshape(-1, 1)), run.check(states.reshape(-1, 1))
+        np.testing.assert_array_equal(a.min_distance, b.min_distance)
+        np.testing.assert_array_equal(a.verdict, b.verdict)
+        self.assertEqual(a.part_b_names, b.part_b_names)
+        self.assertIn("Ball", a.part_b_names)
+        # The bar at 0 degrees: Rock 0.15 above it is the closest part; moved
+        # 0.35 higher, Ball (about 0.3 below the bar) is.
+        before = run.check([0.0])
+        self.assertEqual(before.part_b_names, ["Rock"])
+        run.move_object("Rock", ((1, 0, 1.7), (0, 0, 30)))
+        self.assertEqual(run.check([0.0]).part_b_names, ["Ball"])
+        run.move_object("Rock", ((1, 0, 1.35), (0, 0, 30)))
+        self.assertAlmostEqual(run.check([0.0]).min_distance[0], before.min_distance[0], delta=1e-12)
+        run.remove_object("Rock")
+        self.assertEqual(run.object_names, ["Ball", "Pole", "Tag"])
+        for call, message in (
+                (lambda: run.add_object("Ball", sphere=1.0), "'Ball' is already"),
+                (lambda: run.add_object("X", sphere=-1.0), r"objects\['X'\]\.sphere: must be a positive"),
+                (lambda: run.add_object("X", sphere=1.0, box=[1, 1, 1]), "exactly one of"),
+                (lambda: run.add_object("X", sphere=1.0, parent="Nowhere"), "no node or link named 'Nowhere'"),
+                (lambda: run.add_object("X", mesh=self.dir / "missing.stl"), r"mesh: cannot open"),
+                (lambda: run.move_object("Rock", ((0, 0, 0), (0, 0, 0))), "no object named 'Rock'"),
+                (lambda: run.remove_object("Slab"), "no object named 'Slab'")):
+            with self.assertRaisesRegex(ValueError, message):
+                call()
+
     def test_shape_errors_raise(self):
         scene = plancheck.Scene(str(write_bar_scene(self.dir)), threads=1)
         for bad in (np.zeros(3), np.zeros((2, 2)), np.zeros((1, 1, 1)), [["a"]]):

@@ -34,6 +34,14 @@ def main() -> None:
     points: npt.NDArray[np.float64] = v.point_a - v.point_b
     parts: npt.NDArray[np.int32] = v.part_a
     print(len(v), bound.any(), points.shape, parts, v.part_b, v.collision, v.point_b, v.part_names)
+    scene.add_object("Rock", box=[0.3, 0.2, 0.15], pose=((2.9, 0.1, 0.07), (0.0, 0.0, 30.0)))
+    scene.add_object("Bag", sphere=0.05, pose=((0, 0, 0.06), (0, 0, 0)), parent="Scoop")
+    scene.add_object("Pole", cylinder=(0.05, 1.2))
+    scene.add_object("Crate", mesh="crate.stl", scale=(1, 1, 1))
+    scene.move_object("Rock", ((3.0, 0.1, 0.07), (0.0, 0.0, 45.0)))
+    scene.remove_object("Rock")
+    objects: list[str] = scene.object_names
+    print(objects)
 
 
 if __name__ == "__main__":

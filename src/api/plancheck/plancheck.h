@@ -132,6 +132,29 @@ struct MotionResult {
   std::size_t steps = 0;  // exact configuration checks between the ends
 };
 
+// Where a world object stands: translation `xyz` (length_unit), then
+// `rpy` (angle_unit): roll, pitch, yaw about the fixed x, y, z axes, as a
+// URDF origin; in the frame of the object's parent.
+struct Pose {
+  std::array<double, 3> xyz{};
+  std::array<double, 3> rpy{};
+};
+
+// A world object, as the scene file's `objects` describes one
+// (scene-format.md "World objects"): exactly one shape.
+struct Object {
+  enum class Shape : std::uint8_t { kBox, kCylinder, kSphere, kMesh };
+  std::string name;             // unique among parts, nodes and links
+  Shape shape = Shape::kBox;
+  std::array<double, 3> box{};  // kBox: full edge lengths (length_unit), centred at the pose
+  double radius = 0.0;          // kCylinder (axis local z, centred) and kSphere (length_unit)
+  double length = 0.0;          // kCylinder
+  std::string mesh;             // kMesh: a file the model loader reads (as given: relative to the working directory)
+  std::array<double, 3> scale{1.0, 1.0, 1.0};  // kMesh: per axis, on the file's coordinates (in length_unit)
+  Pose pose;
+  std::string parent;           // a model node or robot link it moves with; "": the world
+};
+
 // What Scene::load reads beside the scene file (the command line's --srdf
 // and --package options; for a bare .urdf scene).
 struct LoadOptions {
@@ -166,8 +189,21 @@ class PLANCHECK_API Scene {
   std::shared_ptr<const detail::SceneData> data_;
 };
 
-// The collision structures of a scene, built once. Every method is const and
-// may be called from any number of threads at once.
+// The collision structures of a scene, built once. Every method may be
+// called from any number of threads at once.
+//
+// World objects change at run time (add_object, move_object,
+// remove_object): each change makes a new version of the world, built from
+// the last (the changed object's structure only; every other part's is
+// shared, not rebuilt) and swapped in whole. A check, a batch or a motion
+// check takes the version current when it starts and uses it to its end: it
+// sees every change completed before it started, never half a change, and
+// never one made while it runs. Changes from several threads are applied one
+// at a time. Copies of a Checker share one world. Part indices
+// (StateResult::part_a_index, part_names()) are those of the version a
+// result was checked on; a change may renumber the parts after an added or
+// removed object. Objects named in the scene file may be moved and removed
+// like the others.
 class PLANCHECK_API Checker {
  public:
   // Builds on `threads` threads (0: all hardware threads); check_batch uses
@@ -207,17 +243,30 @@ class PLANCHECK_API Checker {
   void check_motion_batch(const double* from, const double* to, std::size_t count, MotionResult* out,
                           const MotionOptions& options = {}) const;
 
-  // The scene this checker was built for (its limits, names, units).
+  // World objects (see above). Units and frames as the scene file's
+  // `objects`. Throws Error (nothing changed) for a bad shape or size, a
+  // name already used, an unknown parent, a mesh that cannot be read, or
+  // (move, remove) a name that is no object. Adding builds the new object's
+  // structure only; moving rebuilds nothing but the moved object's.
+  void add_object(const Object& object);
+  void move_object(const std::string& name, const Pose& pose);
+  void remove_object(const std::string& name);
+  // The world objects in order: the scene file's, then those added.
+  std::vector<std::string> object_names() const;
+
+  // The scene of the current world (its limits, names, units). The Scene
+  // returned holds its data: references into it (parameter_names()) live as
+  // long as it does, not as long as the world (a change may free the old one).
   Scene scene() const;
 
-  // Parts as StateResult indexes them: the scene's parts, then "terrain"
-  // when the terrain collides.
-  const std::vector<std::string>& part_names() const;
+  // Parts as StateResult indexes them: the scene's parts (world objects
+  // last), then "terrain" when the terrain collides. For the current world.
+  std::vector<std::string> part_names() const;
   std::size_t parameter_count() const;
   int threads() const;  // threads check_batch runs on
 
  private:
-  std::shared_ptr<const detail::CheckerData> data_;
+  std::shared_ptr<detail::CheckerData> data_;
 };
 
 }  // namespace v0

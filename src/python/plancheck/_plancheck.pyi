@@ -3,12 +3,14 @@
 # by plancheck/__init__.py. Checked by tests/python (mypy --strict on
 # typed_example.py, and mypy.stubtest against the built module).
 import os
-from typing import Union
+from typing import Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
 
 _Path = Union[str, os.PathLike[str]]
+# ((x, y, z), (roll, pitch, yaw)): length_unit and angle_unit.
+_Pose = Sequence[Sequence[float]]
 
 __version__: str
 
@@ -94,5 +96,21 @@ class Scene:
     def angle_unit(self) -> str: ...
     @property
     def threads(self) -> int: ...
+    @property
+    def object_names(self) -> list[str]: ...
+    def add_object(
+        self,
+        name: str,
+        *,
+        box: Sequence[float] | None = None,
+        cylinder: Sequence[float] | None = None,
+        sphere: float | None = None,
+        mesh: _Path | None = None,
+        pose: _Pose = ...,
+        parent: str | None = None,
+        scale: Sequence[float] = ...,
+    ) -> None: ...
+    def move_object(self, name: str, pose: _Pose) -> None: ...
+    def remove_object(self, name: str) -> None: ...
     def check(self, states: npt.ArrayLike, verdict_only: bool = False) -> CheckResult: ...
     def check_motion(self, starts: npt.ArrayLike, ends: npt.ArrayLike, verdict_only: bool = False) -> MotionResult: ...
