@@ -852,7 +852,8 @@ bool Checker::pair_collides(const PosedParts& posed, std::size_t k) const {
   return r.collide;
 }
 
-void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide) const {
+void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide,
+                            double rel_tolerance) const {
   const PairRef& p = pairs_[k];
   const bool seeded = out.seeded;
   const std::uint32_t seed_a = out.slot_a, seed_b = out.slot_b;
@@ -879,7 +880,7 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
     out.distance = gap;
     return;
   }
-  DistanceRequest q{need, 0.0, kDistanceTieTolerance};
+  DistanceRequest q{need, rel_tolerance, kDistanceTieTolerance};
   q.first_below = decide;
   q.known_disjoint = true;  // the caller ran pair_collides
   if (seeded) {
@@ -892,7 +893,15 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
     distance(models_[a], pa, *terrain_, q, r);
   else
     distance(models_[a], pa, models_[b], *posed.pose[static_cast<std::size_t>(b)], q, r);
-  if (r.found) {
+  if (r.found && rel_tolerance > 0.0) {
+    // Within the factor: the pair skipped for the one found had a lower
+    // bound at least min(best / (1 + r), best - tie), best >= r.distance.
+    out.distance = std::max({gap, r.distance / (1.0 + rel_tolerance) - q.abs_tolerance - out.guard, 0.0});
+    out.upper = r.distance;
+    out.seeded = true;
+    out.slot_a = r.slot_a;
+    out.slot_b = r.slot_b;
+  } else if (r.found) {
     out.exact = !decide;
     out.distance = decide ? gap : r.distance;
     out.upper = r.distance;
@@ -901,7 +910,7 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
     out.slot_b = r.slot_b;
   } else {
     // As check_pairs proves a pair it searched below q.upper_bound.
-    out.distance = std::max({gap, need - q.abs_tolerance - out.guard, 0.0});
+    out.distance = std::max({gap, need / (1.0 + rel_tolerance) - q.abs_tolerance - out.guard, 0.0});
   }
 }
 

@@ -291,7 +291,13 @@ class Checker {
   // parts (optional): pose only these (and their chains); others keep what they held.
   void pose_parts(const std::vector<double>& params, PosedParts& out, std::span<const int> parts = {}) const;
   bool pair_collides(const PosedParts& posed, std::size_t k) const;
-  void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false) const;
+  // rel_tolerance r > 0 (the motion checks' cheap bound): a search within
+  // a factor 1 + r, far cheaper than an exact one at long range; the answer
+  // is then never exact: a distance found gives upper and the lower bound
+  // upper / (1 + r) (less the tie tolerance and the guard), nothing found
+  // the bound need / (1 + r) (less the same).
+  void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false,
+                     double rel_tolerance = 0.0) const;
   // The parameters (indices into Scene::parameter_names) the distance of
   // pair k depends on: those read by the actions of one part's chain and
   // not the other's. The relative pose of the two parts is a function of
