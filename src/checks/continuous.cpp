@@ -107,12 +107,13 @@ double SegmentChecker::end_limit(const std::vector<double>& qa, const std::vecto
 }
 
 SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const std::vector<double>& qb,
-                                           bool verdict_only, StateResult& sa, StateResult& sb) const {
+                                           bool verdict_only, StateResult& sa, StateResult& sb,
+                                           double* certified_until) const {
   CheckRequest request = row_request();
   if (verdict_only) request.exact_below = end_limit(qa, qb);
   checker_.check_state(qa, sa, request);
   checker_.check_state(qb, sb, request);
-  return run_pairs(qa, qb, sa, sb);
+  return run_pairs(qa, qb, sa, sb, certified_until);
 }
 
 SegmentResult SegmentChecker::check_motion_reference(const std::vector<double>& qa, const std::vector<double>& qb,
@@ -315,8 +316,10 @@ constexpr double kRel = 1.0;
 }  // namespace
 
 SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std::vector<double>& qb,
-                                        const StateResult& sa, const StateResult& sb) const {
+                                        const StateResult& sa, const StateResult& sb,
+                                        double* certified_until) const {
   SegmentResult out;
+  double until = 0.0;
   out.checked = true;
   const std::size_t np = pairs_.size();
   const double e_limit = end_limit(qa, qb);
@@ -399,6 +402,11 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     double t;
     int a, b;
   };
+  // Where the first pass's certificate from t = 0 stops: spans are taken
+  // left first, so when span [ta, tb] is taken everything before ta is
+  // certified; a witness or the budget stops it at that span's ta.
+  double reached = 0.0;
+  bool first_pass = true;
   auto item_bound = [&](const Item& it, double len) {
     const double m = pd[it.k].rate * len;
     return std::min({it.la, it.lb, 0.5 * (it.la + it.lb - m)});
@@ -432,6 +440,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
       arena.resize(sp.begin);
       if (active.empty()) continue;
       const double tm = 0.5 * (sp.ta + sp.tb);
+      if (first_pass) reached = sp.ta;
       if (out.steps >= options_.max_steps || !(tm > sp.ta && tm < sp.tb)) {
         // Cannot be settled: a violation without a witness, never a false
         // safe; what is left unsettled is bounded as it stands.
@@ -517,11 +526,14 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   if (margin_ > 0.0) {
     witness = certify(margin_, margin_ + options_.tolerance, false, lower);
     check_contact = witness.has_value();
+    first_pass = false;
+    until = witness || gave_up ? reached : 1.0;
   }
   bool collision = false;
   if (check_contact && !gave_up) {
     double contact_lower = std::numeric_limits<double>::infinity();
     const auto contact = certify(0.0, options_.contact_tolerance, true, contact_lower);
+    if (first_pass) until = contact || gave_up ? reached : 1.0;
     lower = contact_lower;
     if (contact) {
       collision = true;
@@ -545,6 +557,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   }
   out.lower_bound = lower;
   out.unresolved = gave_up;
+  if (certified_until) *certified_until = until;
   return out;
 }
 

@@ -78,8 +78,12 @@ class SegmentChecker {
   // distances only where they decide something; sa, sb and lower_bound may
   // then be certified bounds (StateResult::distance_is_bound) and
   // min_sampled counts only exact samples. Thread-safe.
+  // certified_until (optional): the segment is certified clear of the
+  // first pass's target (the margin; contact without one) from qa up to this
+  // fraction of it: 1 when nothing is found, else where the certificate
+  // stopped before the first witness (0 at an end).
   SegmentResult check_motion(const std::vector<double>& qa, const std::vector<double>& qb, bool verdict_only,
-                             StateResult& sa, StateResult& sb) const;
+                             StateResult& sa, StateResult& sb, double* certified_until = nullptr) const;
 
   // The previous algorithm, kept as the slow reference of the tests: one
   // bound for all pairs (pair_bound) against the least distance of any pair,
@@ -104,7 +108,7 @@ class SegmentChecker {
                     const StateResult& sb, const Heightfield* terrain, bool sb_on_terrain, bool verdict_only) const;
   // The per-pair algorithm (check, check_motion on the scene's terrain).
   SegmentResult run_pairs(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
-                          const StateResult& sb) const;
+                          const StateResult& sb, double* certified_until = nullptr) const;
   // Where the end states' distances count (m): exact below it in
   // check_motion's verdict-only end checks, and every pair at least
   // min(its state's distance, this) at an end in both modes, so that both
