@@ -51,6 +51,48 @@ Sample to_sample(double t, const StateResult& s) {
   return out;
 }
 
+// The two passes both algorithms run: against the margin (when there is
+// one), then, where it found a witness (or without a margin), against
+// contact; certify(target, limit, contact, lower) returns the pass's first
+// witness (t, a, b) or nothing, and sets gave_up when the budget ran out.
+template <class Certify>
+void two_passes(double margin, const ContinuousOptions& options, const bool& gave_up, SegmentResult& out,
+                Certify&& certify) {
+  double lower = std::numeric_limits<double>::infinity();
+  auto witness = decltype(certify(0.0, 0.0, false, lower)){};
+  bool check_contact = true;
+  if (margin > 0.0) {
+    witness = certify(margin, margin + options.tolerance, false, lower);
+    check_contact = witness.has_value();
+  }
+  bool collision = false;
+  if (check_contact && !gave_up) {
+    // Touching anywhere on the segment, or within contact_tolerance of it?
+    lower = std::numeric_limits<double>::infinity();
+    const auto contact = certify(0.0, options.contact_tolerance, true, lower);
+    if (contact) {
+      collision = true;
+      witness = contact;
+      lower = 0.0;
+    }
+  }
+  if (witness) {
+    out.collision = collision;
+    out.clearance = margin > 0.0;
+    out.witness_t = witness->t;
+    out.part_a = witness->a;
+    out.part_b = witness->b;
+  }
+  if (gave_up && !out.clearance && !out.collision) {
+    // Not certified: a violation (counted as clearance), naming no pair.
+    out.clearance = true;
+    out.part_a = out.part_b = -1;
+    out.witness_t = -1.0;
+  }
+  out.lower_bound = lower;
+  out.unresolved = gave_up;
+}
+
 }  // namespace
 
 SegmentChecker::SegmentChecker(const Checker& checker, const Scene& scene, const ContinuousOptions& options)
@@ -246,40 +288,7 @@ SegmentResult SegmentChecker::run(const std::vector<double>& qa, const std::vect
     return std::nullopt;
   };
 
-  std::optional<Sample> witness;
-  double lower = std::numeric_limits<double>::infinity();
-  bool check_contact = true;
-  if (margin_ > 0.0) {
-    witness = certify(margin_, margin_ + options_.tolerance, false, lower);
-    check_contact = witness.has_value();
-    if (witness) {
-      out.clearance = true;
-      out.witness_t = witness->t;
-      out.part_a = witness->a;
-      out.part_b = witness->b;
-    }
-  }
-  if (check_contact && !gave_up) {
-    // Touching anywhere on the segment, or within contact_tolerance of it?
-    lower = std::numeric_limits<double>::infinity();
-    const auto contact = certify(0.0, options_.contact_tolerance, true, lower);
-    if (contact) {
-      out.collision = true;
-      out.clearance = margin_ > 0.0;
-      out.witness_t = contact->t;
-      out.part_a = contact->a;
-      out.part_b = contact->b;
-      lower = 0.0;
-    }
-  }
-  if (gave_up && !out.clearance && !out.collision) {
-    // Not certified: a violation (counted as clearance), naming no pair.
-    out.clearance = true;
-    out.part_a = out.part_b = -1;
-    out.witness_t = -1.0;
-  }
-  out.lower_bound = lower;
-  out.unresolved = gave_up;
+  two_passes(margin_, options_, gave_up, out, certify);
   for (const auto& [t, s] : samples) {
     if (s.bound || !(s.d < out.min_sampled)) continue;
     out.min_sampled = s.d;
@@ -520,43 +529,12 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     return std::nullopt;
   };
 
-  std::optional<Witness> witness;
-  double lower = std::numeric_limits<double>::infinity();
-  bool check_contact = true;
-  if (margin_ > 0.0) {
-    witness = certify(margin_, margin_ + options_.tolerance, false, lower);
-    check_contact = witness.has_value();
+  two_passes(margin_, options_, gave_up, out, [&](double target, double limit, bool contact, double& lower) {
+    const std::optional<Witness> w = certify(target, limit, contact, lower);
+    if (first_pass) until = w || gave_up ? reached : 1.0;
     first_pass = false;
-    until = witness || gave_up ? reached : 1.0;
-  }
-  bool collision = false;
-  if (check_contact && !gave_up) {
-    double contact_lower = std::numeric_limits<double>::infinity();
-    const auto contact = certify(0.0, options_.contact_tolerance, true, contact_lower);
-    if (first_pass) until = contact || gave_up ? reached : 1.0;
-    lower = contact_lower;
-    if (contact) {
-      collision = true;
-      witness = contact;
-      lower = 0.0;
-    }
-  }
-  // The pair at the least exact sample names a safe segment; a violation
-  // names its witness's.
-  if (witness) {
-    out.collision = collision;
-    out.clearance = margin_ > 0.0;
-    out.witness_t = witness->t;
-    out.part_a = witness->a;
-    out.part_b = witness->b;
-  }
-  if (gave_up && !out.clearance && !out.collision) {
-    out.clearance = true;
-    out.part_a = out.part_b = -1;
-    out.witness_t = -1.0;
-  }
-  out.lower_bound = lower;
-  out.unresolved = gave_up;
+    return w;
+  });
   if (certified_until) *certified_until = until;
   return out;
 }

@@ -17,6 +17,7 @@
 #include "src/checks/verify.h"
 #include "support/fixtures.h"
 #include "support/sanitized.h"
+#include "tests/verify/bar_scene.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -112,27 +113,14 @@ void compare(const Checker& checker, const SegmentChecker& seg, double margin, c
   tally.collisions += fast.collision;
 }
 
-// The bar of continuous_test.cpp: [0.2, 2] x [-0.05, 0.05] x [0.95, 1.05] on
-// Slew (rotate about +z through the origin), Boom (translate along +x), Grow
-// (scale about (0, 0, 1)); static posts.
+// The slewing bar past posts (bar_scene.h).
 struct BarScene {
   TempDir dir{"continuous-reference"};
   Scene scene;
   std::unique_ptr<Checker> checker;
   std::unique_ptr<SegmentChecker> seg;
   explicit BarScene(const std::vector<std::pair<Vec3, Vec3>>& posts) {
-    std::vector<std::pair<std::string, Mesh>> parts{{"Bar", testing::box_mesh({0.2, -0.05, 0.95}, {2, 0.05, 1.05})}};
-    for (std::size_t i = 0; i < posts.size(); ++i)
-      parts.emplace_back("Post" + std::to_string(i), testing::box_mesh(posts[i].first, posts[i].second));
-    testing::write_obj(dir / "model.obj", parts);
-    write_text(dir / "scene.json", R"({
-  "format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m", "angle_unit": "deg",
-  "actions": [
-    {"name": "Slew", "node": "Bar", "type": "rotate", "pivot": [0, 0, 0], "axis": [0, 0, 1]},
-    {"name": "Boom", "node": "Bar", "type": "translate", "axis": [1, 0, 0]},
-    {"name": "Grow", "node": "Bar", "type": "scale", "fixed_point": [0, 0, 1]}],
-  "safety_margin": 0.05
-})");
+    testing::write_bar_scene(dir, posts);
     scene = load_scene(dir / "scene.json");
     checker = std::make_unique<Checker>(scene, 1);
     seg = std::make_unique<SegmentChecker>(*checker, scene, ContinuousOptions{});
