@@ -119,9 +119,14 @@ double SegmentChecker::pair_bound(const std::vector<double>& qa, const std::vect
 SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::vector<double>& qb,
                                     const StateResult& sa, const StateResult& sb, const Heightfield* terrain,
                                     bool sb_on_terrain) const {
-  // A dug terrain is not what the pair queries see: the reference there.
-  if (terrain) return run(qa, qb, sa, sb, terrain, sb_on_terrain, false);
-  return run_pairs(qa, qb, sa, sb);
+  if (terrain && !sb_on_terrain) {
+    // sb shows qb after its own dig; the motion meets the terrain before it.
+    StateResult sb_before;
+    checker_.check_state_without_terrain(qb, sb_before, row_request());
+    checker_.check_terrain(qb, *terrain, sb_before);
+    return run_pairs(qa, qb, sa, sb_before, nullptr, terrain);
+  }
+  return run_pairs(qa, qb, sa, sb, nullptr, terrain);
 }
 
 SegmentResult SegmentChecker::check_reference(const std::vector<double>& qa, const std::vector<double>& qb,
@@ -326,7 +331,7 @@ constexpr double kRel = 1.0;
 
 SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std::vector<double>& qb,
                                         const StateResult& sa, const StateResult& sb,
-                                        double* certified_until) const {
+                                        double* certified_until, const Heightfield* terrain) const {
   SegmentResult out;
   double until = 0.0;
   out.checked = true;
@@ -344,6 +349,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   };
   std::vector<PairData> pd(np);
   PosedParts posed;
+  posed.terrain = terrain;
   PairAnswer answer;
   checker_.pose_parts(qa, posed);
   for (std::size_t k = 0; k < np; ++k) {
@@ -383,7 +389,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   auto end_sample = [&](double t, const StateResult& st) {
     Sample smp = to_sample(t, st);
     if (smp.bound && !(smp.d >= first_limit())) {
-      checker_.check_state(point(t), exact_end, row_request());
+      checker_.check_state(point(t), exact_end, row_request());  // (never with a dug terrain: ends exact)
       smp = to_sample(t, exact_end);
     }
     return smp;

@@ -108,7 +108,8 @@ class SegmentChecker {
                     const StateResult& sb, const Heightfield* terrain, bool sb_on_terrain, bool verdict_only) const;
   // The per-pair algorithm (check, check_motion on the scene's terrain).
   SegmentResult run_pairs(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
-                          const StateResult& sb, double* certified_until = nullptr) const;
+                          const StateResult& sb, double* certified_until = nullptr,
+                          const Heightfield* terrain = nullptr) const;
   // Where the end states' distances count (m): exact below it in
   // check_motion's verdict-only end checks, and every pair at least
   // min(its state's distance, this) at an end in both modes, so that both

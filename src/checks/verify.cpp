@@ -841,9 +841,10 @@ bool Checker::pair_collides(const PosedParts& posed, std::size_t k) const {
   const Box box_a{posed.box[static_cast<std::size_t>(a)].first, posed.box[static_cast<std::size_t>(a)].second};
   CollideResult r;
   if (b == terrain_index_) {
-    if (!(terrain_ && terrain_->triangle_count() > 0)) return false;
-    if (box_gap2(box_a, terrain_root_box(*terrain_)) > 0.0) return false;
-    collide(models_[a], pa, *terrain_, CollideRequest{0}, r);
+    const Heightfield* field = posed.terrain ? posed.terrain : terrain_.get();
+    if (!(field && field->triangle_count() > 0)) return false;
+    if (box_gap2(box_a, terrain_root_box(*field)) > 0.0) return false;
+    collide(models_[a], pa, *field, CollideRequest{0}, r);
   } else {
     const Box box_b{posed.box[static_cast<std::size_t>(b)].first, posed.box[static_cast<std::size_t>(b)].second};
     if (box_gap2(box_a, box_b) > 0.0) return false;
@@ -862,9 +863,10 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   if (p.empty) return;  // never checked: no bound from it
   const int a = p.a, b = p.b;
   const bool on_terrain = b == terrain_index_;
-  if (on_terrain && !(terrain_ && terrain_->triangle_count() > 0)) return;
+  const Heightfield* field = posed.terrain ? posed.terrain : terrain_.get();
+  if (on_terrain && !(field && field->triangle_count() > 0)) return;
   const Box box_a{posed.box[static_cast<std::size_t>(a)].first, posed.box[static_cast<std::size_t>(a)].second};
-  const Box box_b = on_terrain ? terrain_root_box(*terrain_)
+  const Box box_b = on_terrain ? terrain_root_box(*field)
                                : Box{posed.box[static_cast<std::size_t>(b)].first, posed.box[static_cast<std::size_t>(b)].second};
   const double g2 = box_gap2(box_a, box_b);
   const double gap = g2 > 0.0 ? std::sqrt(g2) : 0.0;
@@ -890,7 +892,7 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   const Affine& pa = *posed.pose[static_cast<std::size_t>(a)];
   DistanceResult r;
   if (on_terrain)
-    distance(models_[a], pa, *terrain_, q, r);
+    distance(models_[a], pa, *field, q, r);
   else
     distance(models_[a], pa, models_[b], *posed.pose[static_cast<std::size_t>(b)], q, r);
   if (r.found && rel_tolerance > 0.0) {

@@ -212,6 +212,9 @@ struct PosedParts {
   std::vector<Affine> chains;
   std::vector<const Affine*> pose;                // per checked part
   std::vector<std::pair<Vec3, Vec3>> box;         // per checked part: world box, padded
+  // The terrain the terrain pairs meet (a dug copy of Checker::terrain(),
+  // refit where digging changed it); nullptr: the undisturbed terrain.
+  const Heightfield* terrain = nullptr;
 };
 
 // Collision structures of a scene, built once; immutable and shared by threads.
