@@ -93,6 +93,7 @@ void check_groups(const Checker& checker, const Scene& scene, const std::vector<
   if (!cold) {
     VerifyOptions o{threads, false, false};
     o.verdict_only = verdict_only;
+    o.listed_collisions = kMaxCollisionStatesListed;  // what verify lists without --html
     verify_plans(checker, scene, groups, o);
     return;
   }
@@ -107,6 +108,10 @@ struct Row {
   double pc_1 = 0, pc_2 = 0;            // plancheck collision + distance, 1 and 2 threads (s)
   double pc_collide_1 = 0;              // plancheck collision only, 1 thread (s)
   double pc_verdict_1 = 0;              // plancheck verdict only (verdict_only_request), 1 thread (s)
+  // Cold states only: the same states written as one plan, through
+  // verify_plans as `plancheck verify` runs a plan (each state seeding the
+  // next), full and verdict-only, 1 thread (s).
+  double plan_1 = 0, plan_verdict_1 = 0;
   double fcl = 0, fcl_collide = 0;      // FCL, 1 thread (s)
   std::optional<double> paper;          // s
 };
@@ -283,6 +288,10 @@ int run_table3(int argc, char** argv) {
       rows[p].pc_collide_1 =
           median_seconds(reps, [&] { check_cold(*checker, groups[p].states, 1, collide_request()); });
       rows[p].pc_verdict_1 = median_seconds(reps, [&] { check_groups(*checker, scene, one, work.cold, 1, true); });
+      if (work.cold) {
+        rows[p].plan_1 = median_seconds(reps, [&] { check_groups(*checker, scene, one, false, 1); });
+        rows[p].plan_verdict_1 = median_seconds(reps, [&] { check_groups(*checker, scene, one, false, 1, true); });
+      }
     }
     // The whole workload in one call, as `plancheck verify` runs it (plans
     // only: cold states have no plan boundaries, their one group is all).
@@ -350,6 +359,8 @@ int run_table3(int argc, char** argv) {
       total.pc_2 += r.pc_2;
       total.pc_collide_1 += r.pc_collide_1;
       total.pc_verdict_1 += r.pc_verdict_1;
+      total.plan_1 += r.plan_1;
+      total.plan_verdict_1 += r.plan_verdict_1;
       total.fcl += r.fcl;
       total.fcl_collide += r.fcl_collide;
       if (r.paper) paper_total += *r.paper; else have_paper = false;
@@ -403,6 +414,12 @@ int run_table3(int argc, char** argv) {
     } else {
       out << "\n" << fmt(1e6 * total.pc_1 / static_cast<double>(total.states), "%.1f") << " us per state on 1 thread, "
           << fmt(static_cast<double>(total.states) / total.pc_2, "%.0f") << " states/s on 2 threads\n";
+      out << "the same states as one plan through verify_plans (as `plancheck verify` runs a plan), 1 thread: "
+          << fmt(total.plan_1, "%.4f") << " s (" << fmt(total.plan_1 / total.pc_1, "%.2f") << "x the batch"
+          << (fcl ? ", " + fmt(total.fcl / total.plan_1, "%.1f") + "x FCL" : "") << "), verdict-only "
+          << fmt(total.plan_verdict_1, "%.4f") << " s (" << fmt(total.plan_verdict_1 / total.pc_verdict_1, "%.2f")
+          << "x the batch" << (fcl ? ", " + fmt(total.fcl_collide / total.plan_verdict_1, "%.1f") + "x FCL's collide" : "")
+          << ")\n";
     }
     out << "build: plancheck " << fmt(pc_build) << " s (2 threads)";
     if (fcl) out << ", FCL " << fmt(fcl_build) << " s";
@@ -444,6 +461,10 @@ int run_table3(int argc, char** argv) {
                             {"plancheck_seconds_2_threads", r.pc_2},
                             {"plancheck_collide_seconds_1_thread", r.pc_collide_1},
                             {"plancheck_verdict_only_seconds_1_thread", r.pc_verdict_1}};
+        if (work.cold) {
+          x["plancheck_as_one_plan_seconds_1_thread"] = r.plan_1;
+          x["plancheck_as_one_plan_verdict_only_seconds_1_thread"] = r.plan_verdict_1;
+        }
         if (fcl) {
           x["fcl_seconds"] = r.fcl;
           x["fcl_collide_seconds"] = r.fcl_collide;

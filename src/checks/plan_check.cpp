@@ -11,7 +11,10 @@
 
 #include <algorithm>
 #include <chrono>
+#include <limits>
 #include <numeric>
+#include <stdexcept>
+#include <utility>
 
 namespace plancheck {
 
@@ -74,7 +77,14 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
   // A digging scene's terrain pairs wait for the dig pass (regolith.cpp),
   // which checks each state against the terrain as dug through that state.
   const bool terrain_later = options.regolith && checker.terrain_is_dug();
-  const CheckRequest request = options.verdict_only ? verdict_only_request(scene.safety_margin) : CheckRequest{};
+  CheckRequest request = options.verdict_only ? verdict_only_request(scene.safety_margin) : CheckRequest{};
+  // The full listing only for the colliding states it is asked for (below).
+  const bool list_later = request.max_triangle_pairs > 0 && options.listed_collisions != std::numeric_limits<std::size_t>::max();
+  if (list_later) {
+    request.max_triangle_pairs = 0;
+    request.all_contacts = false;
+    request.bounds_after_contact = true;
+  }
   parallel_for(runs.size(), options.threads, 1, [&](std::size_t run_begin, std::size_t run_end, int) {
     std::size_t done = 0;
     for (std::size_t k = run_begin; k < run_end; ++k) {
@@ -97,6 +107,50 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
   // Digging (with the terrain pairs of digging scenes) and probes, before
   // the verdicts: the dug terrain's contacts and distances are part of them.
   if (options.regolith) dig_and_probe(checker, plans, results, options, state_seconds);
+
+  if (list_later) {
+    // The listed colliding states checked again with every contact and the
+    // full listing. A colliding state's contacts do not depend on its seed
+    // (a pair skipped by its carried separation is apart), and the collision
+    // test walks the same way whatever the listing's length, so the first
+    // contact and its first triangle pair are the full check's, and
+    // everything else in the state (its contact point, what it carried to
+    // the next: bounds_after_contact) is unchanged. The dug terrain's pairs
+    // (terrain_later) were listed in full by the dig pass, after the
+    // others: they are kept after the others' full list.
+    std::vector<std::pair<std::size_t, std::size_t>> listed;
+    for (std::size_t p = 0; p < plans.size(); ++p) {
+      std::size_t count = 0;
+      for (std::size_t s = 0; s < results[p].states.size() && count < options.listed_collisions; ++s)
+        if (results[p].states[s].collision) {
+          listed.emplace_back(p, s);
+          ++count;
+        }
+    }
+    parallel_for(listed.size(), options.threads, 1, [&](std::size_t begin, std::size_t end, int) {
+      StateResult full;
+      for (std::size_t i = begin; i < end; ++i) {
+        const auto [p, s] = listed[i];
+        const auto t0 = std::chrono::steady_clock::now();
+        if (terrain_later)
+          checker.check_state_without_terrain(plans[p].states[s], full, CheckRequest{});
+        else
+          checker.check_state(plans[p].states[s], full, CheckRequest{});
+        std::vector<PairContact>& contacts = results[p].states[s].contacts;
+        const bool first_same = full.contacts.empty() ||
+                                (!contacts.empty() && contacts[0].part_a == full.contacts[0].part_a &&
+                                 contacts[0].part_b == full.contacts[0].part_b && !contacts[0].triangles.empty() &&
+                                 !full.contacts[0].triangles.empty() &&
+                                 contacts[0].triangles[0] == full.contacts[0].triangles[0]);
+        if (!first_same) throw std::logic_error("verify_plans: the listing found another first contact");
+        if (terrain_later)
+          for (PairContact& c : contacts)
+            if (c.part_b == checker.terrain_index()) full.contacts.push_back(std::move(c));
+        contacts.swap(full.contacts);
+        state_seconds[p][s] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      }
+    });
+  }
 
   const double margin = scene.safety_margin;
   for (std::size_t p = 0; p < plans.size(); ++p) {

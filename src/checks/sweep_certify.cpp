@@ -2,7 +2,7 @@
 // Certified regions (src/checks/sweep_certify.h).
 #include "src/checks/sweep_certify.h"
 
-#include "src/geometry/motion_bound.h"
+#include "src/geometry/crossing.h"
 
 #include <algorithm>
 #include <cmath>
@@ -24,6 +24,14 @@ constexpr std::size_t kSmallBox = 32;
 
 constexpr std::int32_t kNone = std::numeric_limits<std::int32_t>::max();
 
+// Intersecting triangle pairs listed at a box centre to look for a crossing
+// witness among (the first that holds certifies the box).
+constexpr std::size_t kWitnesses = 16;
+// Small boxes (answered point by point) of at least this many
+// configurations first try one crossing witness for the first pair that
+// was in contact at the last centre.
+constexpr std::size_t kWitnessBox = 4;
+
 }  // namespace
 
 // One group's answers over its projection of a block, in C order over the
@@ -35,6 +43,8 @@ struct SweepCertifier::Answers {
   std::vector<std::uint8_t> collision;
   std::vector<std::int32_t> pair;   // first colliding pair, or the closest when exact; -1
   std::vector<double> guard;        // the closest pair's guard, when exact
+  std::vector<std::uint8_t> witnessed;  // the contact is a crossing witness's (no test here)
+  std::size_t contact_boxes = 0;
   std::size_t pair_checks = 0;
 
   std::size_t index(const std::vector<std::size_t>& at) const {
@@ -73,6 +83,11 @@ struct SweepCertifier::Context {
   // pair of the group from it on can change what they show; kNone: some
   // configuration there has no contact yet.
   const std::vector<std::int32_t>& relevant;
+  // Per point: a pair a crossing witness proved in contact at every
+  // configuration there (kNone: none), so no later pair matters there and
+  // the earlier ones need only be proven apart.
+  std::vector<std::int32_t> cert = {};
+  std::vector<std::array<Vec3, 6>> crossings = {};  // scratch
   std::vector<double> params = {};  // scratch
   PosedParts posed = {};
   std::vector<double> since = {};
@@ -80,7 +95,7 @@ struct SweepCertifier::Context {
 };
 
 SweepCertifier::SweepCertifier(const Checker& checker, const Scene& scene, const SweepGrid& grid)
-    : checker_(checker), scene_(scene), grid_(grid), blocks_(grid.shape()) {
+    : checker_(checker), scene_(scene), grid_(grid), blocks_(grid.shape()), motion_(scene) {
   // Groups: pairs by the swept axes their distance depends on.
   std::map<std::vector<std::size_t>, std::vector<std::size_t>> by_axes;
   const std::size_t pairs = checker.pairs().size();
@@ -118,12 +133,40 @@ SweepCertifier::SweepCertifier(const Checker& checker, const Scene& scene, const
       hi[p] = std::max(hi[p], v);
     }
   }
-  const MotionBound motion(scene);
   double reach = 0.0;
   for (std::size_t i = 0; i < scene.parts.size(); ++i)
-    reach = std::max(reach, motion.part_bound(static_cast<int>(i), lo, hi));
+    reach = std::max(reach, motion_.part_bound(static_cast<int>(i), lo, hi));
   guard_ = checker.guard_bound(reach);
   cutoff_ = std::max(scene.safety_margin, 0.0) + 4.0 * guard_ + kDistanceTieTolerance;
+  contact_cutoff_ = 4.0 * guard_ + kDistanceTieTolerance;
+  // Crossing witnesses: pairs of two meshes (the terrain lists no
+  // triangles) whose chains are rigid, so the exact test's working frame
+  // (collision_model.h) is an isometry of the world the motion bound and
+  // the witness are measured in.
+  for (std::size_t k = 0; k < pairs; ++k) {
+    const auto [a, b] = checker.pairs()[k];
+    bool rigid = b != checker.terrain_index();
+    for (int part : {a, b}) {
+      if (part < 0 || static_cast<std::size_t>(part) >= scene.parts.size()) continue;
+      for (int act : scene.parts[static_cast<std::size_t>(part)].chain)
+        if (scene.actions[static_cast<std::size_t>(act)].type == ActionType::kScale) rigid = false;
+    }
+    crossable_.push_back(rigid ? 1 : 0);
+  }
+  pair_parts_ = checker.pairs();
+  for (const Part& part : scene.parts) {
+    double r = 0.0, e = 0.0;
+    for (const Tri& t : part.mesh.triangles) {
+      const Vec3& x = part.mesh.vertices[t[0]];
+      const Vec3& y = part.mesh.vertices[t[1]];
+      const Vec3& z = part.mesh.vertices[t[2]];
+      const double perimeter = (y - x).norm() + (z - y).norm() + (x - z).norm();
+      if (perimeter > 0.0) r = std::max(r, (y - x).cross(z - x).norm() / perimeter);  // 2 area / perimeter
+      e = std::max({e, (y - x).norm(), (z - y).norm(), (x - z).norm()});
+    }
+    inradius_.push_back(r * (1.0 + 1e-9));
+    longest_edge_.push_back(e * (1.0 + 1e-9));
+  }
 
   // Limits as first_limit_violation reads them: each parameter an action
   // with limits drives directly, against that action's limits.
@@ -165,14 +208,22 @@ void SweepCertifier::answer_point(Context& c, const std::vector<std::size_t>& at
     c.params[static_cast<std::size_t>(a.parameter)] = a.values[c.first[g.axes[k]] + at[k]];
   }
   const std::size_t i = out.index(at);
-  const std::int32_t limit = c.relevant[i];
+  const std::int32_t cert = c.cert[i];
+  const std::int32_t limit = std::min(c.relevant[i], cert);
+  // No pair before `limit` touches: the certified contact, or (every
+  // configuration here in contact through an earlier group) nothing to add.
+  auto settled = [&] {
+    const bool contact = cert < c.relevant[i];
+    out.collision[i] = contact ? 1 : 0;
+    out.exact[i] = contact ? 1 : 0;
+    out.lower[i] = contact ? 0.0 : kInf;
+    out.pair[i] = contact ? cert : -1;
+    out.witnessed[i] = contact ? 1 : 0;
+  };
   bool any = false;
   for (const Pending& p : pending) any = any || static_cast<std::int32_t>(p.pair) < limit;
-  if (!any) {  // every configuration here is in contact through an earlier pair
-    out.collision[i] = 0;
-    out.exact[i] = 0;
-    out.lower[i] = kInf;
-    out.pair[i] = -1;
+  if (!any) {
+    settled();
     return;
   }
   checker_.pose_parts(c.params, c.posed, g.parts);
@@ -201,11 +252,8 @@ void SweepCertifier::answer_point(Context& c, const std::vector<std::size_t>& at
       return;
     }
   }
-  if (limit != kNone) {  // all in contact elsewhere: no distance matters here
-    out.collision[i] = 0;
-    out.exact[i] = 0;
-    out.lower[i] = kInf;
-    out.pair[i] = -1;
+  if (limit != kNone) {  // all in contact: no distance matters here
+    settled();
     return;
   }
   double best = kInf, bound = floor, guard = kDistanceTolerance;
@@ -256,6 +304,39 @@ void SweepCertifier::answer_point(Context& c, const std::vector<std::size_t>& at
   }
 }
 
+bool SweepCertifier::witness_moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
+                                   double& da, double& db) const {
+  if (!crossable_[k]) return false;
+  // How far each part's corners move from the centre to any configuration
+  // of the box: half the path over it (as Checker::pair_motion), plus
+  // rounding twice (the corners as posed at the centre here, and as the
+  // exact test poses them in its working frame, each within 4G of the
+  // exact pose: G is 64 eps of every coordinate's magnitude over the grid,
+  // posing errs by a few ulps of it).
+  const auto [a, b] = pair_parts_[k];
+  const double rounding = 8.0 * guard_;
+  da = 0.5 * motion_.part_bound(a, lo, hi) * (1.0 + 1e-9) + 1e-12 + rounding;
+  db = 0.5 * motion_.part_bound(b, lo, hi) * (1.0 + 1e-9) + 1e-12 + rounding;
+  // An edge pq through triangle T certifies only when p and q stay more
+  // than da + db from T's plane, on either side (crossing.h: the volume of
+  // T's edges with p moves by at least |u| |v| (da + db)), so |pq| must
+  // exceed 2 (da + db); and when the line pq stays farther than da + db
+  // from each of T's edge lines (the volume against edge i moves by at
+  // least |pq| |edge i| (da + db)), so T's inradius must exceed da + db.
+  auto of = [](const std::vector<double>& v, int part) {
+    return part >= 0 && static_cast<std::size_t>(part) < v.size() ? v[static_cast<std::size_t>(part)] : 0.0;
+  };
+  const double m = da + db;
+  return (of(longest_edge_, a) > 2.0 * m && of(inradius_, b) > m) ||
+         (of(longest_edge_, b) > 2.0 * m && of(inradius_, a) > m);
+}
+
+bool SweepCertifier::crossing(const std::vector<std::array<Vec3, 6>>& crossings, double da, double db) const {
+  for (const std::array<Vec3, 6>& x : crossings)
+    if (crossing_certain(x, da, db)) return true;
+  return false;
+}
+
 void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vector<std::size_t>& hi,
                              std::vector<Pending>& pending, double floor) const {
   const Group& g = c.group;
@@ -280,50 +361,93 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
       if (d == 0) return;
     }
   };
-  // Pairs no configuration of the box needs (each has an earlier contact).
+  // Pairs no configuration of the box needs (each has an earlier contact,
+  // from a group answered before or a crossing witness).
   std::int32_t box_limit = 0;
-  each_point([&](const std::vector<std::size_t>& at) { box_limit = std::max(box_limit, c.relevant[out.index(at)]); });
+  each_point([&](const std::vector<std::size_t>& at) {
+    const std::size_t i = out.index(at);
+    box_limit = std::max(box_limit, std::min(c.relevant[i], c.cert[i]));
+  });
   if (box_limit != kNone) {
     std::vector<Pending> needed;
     for (const Pending& p : pending)
       if (static_cast<std::int32_t>(p.pair) < box_limit) needed.push_back(p);
     if (needed.size() < pending.size()) pending.swap(needed);
   }
+  // Every configuration of the box in contact: its distances are 0
+  // whatever the pairs left show, so they need only be proven apart.
+  double cut = box_limit != kNone ? contact_cutoff_ : cutoff_;
   auto certified_all = [&](double bound) {
     each_point([&](const std::vector<std::size_t>& at) {
       const std::size_t i = out.index(at);
-      out.lower[i] = bound;
-      out.exact[i] = 0;
-      out.collision[i] = 0;
-      out.pair[i] = -1;
+      const bool contact = c.cert[i] < c.relevant[i];
+      out.lower[i] = contact ? 0.0 : bound;
+      out.exact[i] = contact ? 1 : 0;
+      out.collision[i] = contact ? 1 : 0;
+      out.pair[i] = contact ? c.cert[i] : -1;
+      out.witnessed[i] = contact ? 1 : 0;
     });
   };
   if (pending.empty()) {
     certified_all(floor);
     return;
   }
+  // The box's corners and centre as full parameter vectors.
+  auto corners = [&](std::vector<double>& qlo, std::vector<double>& qhi, std::vector<double>& qc) {
+    qlo = qhi = qc = grid_.reference;
+    for (std::size_t k = 0; k < d; ++k) {
+      const SweepAxis& a = grid_.axes[g.axes[k]];
+      const std::size_t p = static_cast<std::size_t>(a.parameter);
+      double vmin = kInf, vmax = -kInf;
+      for (std::size_t v = c.first[g.axes[k]] + lo[k]; v <= c.first[g.axes[k]] + hi[k]; ++v) {
+        vmin = std::min(vmin, a.values[v]);
+        vmax = std::max(vmax, a.values[v]);
+      }
+      qlo[p] = vmin;
+      qhi[p] = vmax;
+      qc[p] = vmin + 0.5 * (vmax - vmin);
+    }
+  };
+  auto mark_contact = [&](std::size_t k) {
+    each_point([&](const std::vector<std::size_t>& at) {
+      const std::size_t i = out.index(at);
+      c.cert[i] = std::min(c.cert[i], static_cast<std::int32_t>(k));
+    });
+    ++out.contact_boxes;
+  };
   if (points <= kSmallBox) {
+    // The first pair in contact at the last centre may cross with room for
+    // this small box: one witness search (no distance) can spare every
+    // point its contact test and every later pair.
+    for (const Pending& p : pending) {
+      if (!(p.at >= 0 && p.ub == 0.0)) continue;
+      double da = 0.0, db = 0.0;
+      std::vector<double> qlo, qhi, qc;
+      corners(qlo, qhi, qc);
+      if (points >= kWitnessBox && witness_moves(p.pair, qlo, qhi, da, db)) {
+        checker_.pose_parts(qc, c.posed, g.parts);
+        ++out.pair_checks;
+        checker_.pair_crossings(c.posed, p.pair, kWitnesses, c.crossings);
+        if (crossing(c.crossings, da, db)) mark_contact(p.pair);
+      }
+      break;
+    }
     each_point([&](const std::vector<std::size_t>& at) { answer_point(c, at, pending, floor); });
     return;
   }
 
-  // The box's corners and centre as full parameter vectors.
-  std::vector<double> qlo = grid_.reference, qhi = grid_.reference, qc = grid_.reference;
-  for (std::size_t k = 0; k < d; ++k) {
-    const SweepAxis& a = grid_.axes[g.axes[k]];
-    const std::size_t p = static_cast<std::size_t>(a.parameter);
-    double vmin = kInf, vmax = -kInf;
-    for (std::size_t v = c.first[g.axes[k]] + lo[k]; v <= c.first[g.axes[k]] + hi[k]; ++v) {
-      vmin = std::min(vmin, a.values[v]);
-      vmax = std::max(vmax, a.values[v]);
-    }
-    qlo[p] = vmin;
-    qhi[p] = vmax;
-    qc[p] = vmin + 0.5 * (vmax - vmin);
-  }
+  std::vector<double> qlo, qhi, qc;
+  corners(qlo, qhi, qc);
   bool posed_done = false;
   std::size_t centre = 0;  // this centre's index in c.pool, once asked
   std::vector<Pending> still;
+  std::vector<double> still_motion, still_lb;  // per pair in still: m, a lower bound at this centre
+  auto keep = [&](const Pending& p, double m, double lb) {
+    still.push_back(p);
+    still_motion.push_back(m);
+    still_lb.push_back(lb);
+  };
+  bool witnessed = false;
   for (const Pending& p : pending) {
     const std::size_t k = p.pair;
     const double m = checker_.pair_motion(k, qlo, qhi);
@@ -335,12 +459,17 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
       lb = p.lb - path;
       ub = p.ub + path;
     }
-    if (lb - m >= cutoff_) {  // certified without a search
+    if (lb - m >= cut) {  // certified without a search
       floor = std::min(floor, lb - m);
       continue;
     }
-    if (!(ub >= cutoff_ + m)) {  // cannot be certified here (or the motion is not finite)
-      still.push_back(p);
+    // A pair in contact at the last centre may cross here with room for
+    // the whole box (only a pair that can bring a witness is asked).
+    double da = 0.0, db = 0.0;
+    const bool witness = witness_moves(k, qlo, qhi, da, db);
+    const bool may_cross = witness && p.at >= 0 && p.ub == 0.0;
+    if (!(ub >= cut + m) && !may_cross) {  // cannot be certified here (or the motion is not finite)
+      keep(p, m, lb);
       continue;
     }
     if (!posed_done) {
@@ -352,25 +481,53 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
     ++out.pair_checks;
     Pending q = p;
     q.at = static_cast<int>(centre);
-    if (checker_.pair_collides(c.posed, k)) {
+    bool hit = false;
+    if (witness) {
+      checker_.pair_crossings(c.posed, k, kWitnesses, c.crossings);
+      hit = !c.crossings.empty();
+    } else {
+      hit = checker_.pair_collides(c.posed, k);
+    }
+    if (hit) {
+      if (witness && crossing(c.crossings, da, db)) {
+        // In contact at every configuration of the box: no pair after k
+        // matters here, and those before it need only be proven apart.
+        mark_contact(k);
+        witnessed = true;
+        break;
+      }
       q.lb = 0.0;
       q.ub = 0.0;
-      still.push_back(q);
+      keep(q, m, 0.0);
+      continue;
+    }
+    if (!(ub >= cut + m)) {  // apart here, but too close to certify the box
+      keep(p, m, lb);
       continue;
     }
     PairAnswer& ans = c.seeds[k];
-    // Certified when the distance here is at least cutoff + m: a search
+    // Certified when the distance here is at least cut + m: a search
     // told to stop at the first triangle pair below that proves it, or
     // finds one (an upper bound for the boxes inside).
-    const double need = cutoff_ + m + kDistanceTieTolerance + guard_;
+    const double need = cut + m + kDistanceTieTolerance + guard_;
     checker_.pair_distance(c.posed, k, need, ans, /*decide=*/true);
     q.lb = ans.distance;
     q.ub = ans.upper;
-    if (!std::isfinite(ans.upper) && q.lb - m >= cutoff_) {
+    if (!std::isfinite(ans.upper) && q.lb - m >= cut) {
       floor = std::min(floor, q.lb - m);
       continue;
     }
-    still.push_back(q);
+    keep(q, m, q.lb);
+  }
+  if (witnessed) {  // the pairs before the witness's need only be apart
+    std::vector<Pending> apart;
+    for (std::size_t n = 0; n < still.size(); ++n) {
+      if (still_lb[n] - still_motion[n] >= contact_cutoff_)
+        floor = std::min(floor, still_lb[n] - still_motion[n]);
+      else
+        apart.push_back(still[n]);
+    }
+    still.swap(apart);
   }
   if (still.empty()) {
     certified_all(floor);
@@ -405,6 +562,8 @@ void SweepCertifier::check_block(std::size_t b, SweepBlockResult& out) const {
   std::vector<double> carried(seeds.size(), 0.0);
   std::vector<std::vector<double>> carried_at(seeds.size());
   out.pair_checks = 0;
+  out.witnessed = 0;
+  out.contact_boxes = 0;
   for (std::size_t gi = 0; gi < groups_.size(); ++gi) {
     const Group& g = groups_[gi];
     Answers& a = answers[gi];
@@ -418,6 +577,7 @@ void SweepCertifier::check_block(std::size_t b, SweepBlockResult& out) const {
     a.collision.assign(m, 0);
     a.pair.assign(m, -1);
     a.guard.assign(m, kDistanceTolerance);
+    a.witnessed.assign(m, 0);
     std::vector<std::size_t> lo(g.axes.size(), 0), hi;
     for (std::size_t s : a.size) hi.push_back(s - 1);
     std::vector<Pending> pending;
@@ -438,12 +598,14 @@ void SweepCertifier::check_block(std::size_t b, SweepBlockResult& out) const {
       }
     }
     Context c{g, first, a, seeds, -1, carried, carried_at, relevant};
+    c.cert.assign(m, kNone);
     for (std::size_t k : g.pairs) {
       seeds[k] = PairAnswer{};
       carried_at[k].clear();
     }
     certify(c, lo, hi, pending, kInf);
     out.pair_checks += a.pair_checks;
+    out.contact_boxes += a.contact_boxes;
     {
       std::vector<std::size_t> dg(d, 0);
       for (std::size_t i = 0; i < n; ++i) {
@@ -469,7 +631,7 @@ void SweepCertifier::check_block(std::size_t b, SweepBlockResult& out) const {
     bool collision = false;
     std::int32_t first_contact = std::numeric_limits<std::int32_t>::max();
     double best = kInf, guard = kDistanceTolerance;
-    bool exact = false;
+    bool exact = false, witnessed = false;
     std::int32_t best_pair = -1;
     for (std::size_t gi = 0; gi < groups_.size(); ++gi) {
       const Group& g = groups_[gi];
@@ -478,6 +640,7 @@ void SweepCertifier::check_block(std::size_t b, SweepBlockResult& out) const {
       for (std::size_t k = 0; k < g.axes.size(); ++k) j = j * a.size[k] + digit[g.axes[k]];
       if (a.collision[j]) {
         collision = true;
+        if (a.pair[j] < first_contact) witnessed = a.witnessed[j] != 0;
         first_contact = std::min(first_contact, a.pair[j]);
       } else if (a.lower[j] < best || (a.lower[j] == best && a.exact[j] && !exact)) {
         best = a.lower[j];
@@ -489,6 +652,7 @@ void SweepCertifier::check_block(std::size_t b, SweepBlockResult& out) const {
     bool outside = fixed_outside_limits_;
     for (std::size_t k = 0; k < d && !outside; ++k) outside = outside_limits_[k][first[k] + digit[k]] != 0;
     if (collision) {
+      out.witnessed += witnessed ? 1 : 0;
       out.verdict[i] = Verdict::kCollision;
       out.distance[i] = 0.0;
       out.exact[i] = 1;

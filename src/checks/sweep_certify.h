@@ -29,7 +29,9 @@
 
 #include "src/checks/sweep_grid.h"
 #include "src/checks/verify.h"
+#include "src/geometry/motion_bound.h"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -44,6 +46,8 @@ struct SweepBlockResult {
   std::vector<std::int32_t> pair;     // the first colliding pair (checked-pair order), else the closest
                                       // pair when exact; -1 otherwise
   std::size_t pair_checks = 0;        // single-pair answers computed (statistics)
+  std::size_t witnessed = 0;          // configurations in contact by a crossing witness, untested (statistics)
+  std::size_t contact_boxes = 0;      // boxes certified in contact by a crossing witness (statistics)
 };
 
 class SweepCertifier {
@@ -72,6 +76,14 @@ class SweepCertifier {
                std::vector<Pending>& pending, double floor) const;
   void answer_point(Context& c, const std::vector<std::size_t>& at, const std::vector<Pending>& pending,
                     double floor) const;
+  // How far the corners of checked pair k's parts can move between the
+  // centre of the box [lo, hi] and any configuration of it, as the exact
+  // test poses them (m); false when no crossing witness can hold over it.
+  bool witness_moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi, double& da,
+                     double& db) const;
+  // Whether one of these triangle pairs crossing at a box centre (world
+  // corners as posed there) stays crossing under those moves.
+  bool crossing(const std::vector<std::array<Vec3, 6>>& crossings, double da, double db) const;
 
   const Checker& checker_;
   const Scene& scene_;
@@ -80,6 +92,18 @@ class SweepCertifier {
   std::vector<Group> groups_;
   double cutoff_ = 0.0;
   double guard_ = 0.0;  // G
+  // Where every configuration of a box is in contact, a pair need only be
+  // proven apart: this far (4G and the tie tolerance) settles it.
+  double contact_cutoff_ = 0.0;
+  // Per checked pair: whether a crossing witness may certify it in contact
+  // (rigid chains, not the terrain), and its parts' motion bounds.
+  std::vector<std::uint8_t> crossable_;
+  std::vector<std::pair<int, int>> pair_parts_;  // Checker::pairs()
+  // Per scene part: the largest inradius and edge of its triangles (m). A
+  // witness is an edge longer than twice both parts' moves through a
+  // triangle whose inradius exceeds them (witness_moves).
+  std::vector<double> inradius_, longest_edge_;
+  MotionBound motion_;
   // Limits, per axis and value and for the parameters no axis sweeps.
   std::vector<std::vector<std::uint8_t>> outside_limits_;
   bool fixed_outside_limits_ = false;

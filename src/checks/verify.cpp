@@ -13,6 +13,7 @@
 #include "src/scene/terrain.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -72,6 +73,25 @@ inline double box_gap2(const Box& a, const Box& b) {
     s += g * g;
   }
   return s;
+}
+
+// Whether a distance search at transforms (ta, tb) with request q has
+// bitwise the inputs of `last` (so distance() would return last.result).
+bool same_search(const StateSeed::Search& last, const Affine& ta, const Affine& tb, const DistanceRequest& q) {
+  const auto same = [](double x, double y) { return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y); };
+  // An affine map is its top three rows (the last is never read).
+  const auto same_map = [&](const Affine& x, const Affine& y) {
+    for (int c = 0; c < 4; ++c)
+      for (int r = 0; r < 3; ++r)
+        if (!same(x.matrix()(r, c), y.matrix()(r, c))) return false;
+    return true;
+  };
+  const DistanceRequest& p = last.request;
+  return same_map(last.ta, ta) && same_map(last.tb, tb) &&
+         same(p.upper_bound, q.upper_bound) && same(p.rel_tolerance, q.rel_tolerance) &&
+         same(p.abs_tolerance, q.abs_tolerance) && p.seed_slot_a == q.seed_slot_a &&
+         p.seed_slot_b == q.seed_slot_b && p.first_below == q.first_below &&
+         p.known_disjoint == q.known_disjoint && p.leaf_cull == q.leaf_cull;
 }
 
 }  // namespace
@@ -534,6 +554,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     if (request.distance && out.contacts.empty()) c.contact = &first_contact;
     return c;
   };
+  bool contact_done = false;  // the first contact is in, the rest need only their bounds
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     const auto [a, b, empty] = pairs_[k];
     const bool on_terrain = b == terrain_index_;
@@ -554,6 +575,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     const double gap = request.distance && g2 > 0.0 ? std::sqrt(g2) : g2;
     const double l = carry ? std::max(gap, carried[k]) : gap;
     lower[k] = l;
+    if (contact_done) continue;  // bounds_after_contact: the bound only
     if (!(l > 0.0)) {
       CollideResult r;
       if (on_terrain)
@@ -569,7 +591,10 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
           if (!kb.empty()) j = kb[j];
         }
         out.contacts.push_back({a, b, std::move(r.triangle_pairs)});
-        if (!request.all_contacts) break;
+        if (!request.all_contacts) {
+          if (!request.bounds_after_contact) break;
+          contact_done = true;
+        }
         continue;
       }
     }
@@ -620,6 +645,18 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     hint.slot_a = seed->slot_a;
     hint.slot_b = seed->slot_b;
     seed->pair = -1;
+    // A hint whose parts have moved farther since its state than they were
+    // apart there (the motion bound against the separation proven there)
+    // names a triangle pair that may now be anywhere on them: its search
+    // starts from a loose bound and costs more than the coarse pass, which
+    // takes over (states far apart: candidate configurations, coarse
+    // samples, a planner's tree written as a plan). Only the start of the
+    // search changes; the exact pass decides as from any seed.
+    if (carry && hint.pair >= 0 && static_cast<std::size_t>(hint.pair) < pairs_.size()) {
+      const std::size_t k = static_cast<std::size_t>(hint.pair);
+      const double moved = scratch.motion[static_cast<std::size_t>(pairs_[k].a)] + scratch.motion[static_cast<std::size_t>(pairs_[k].b)];
+      if (moved > seed->separation[k]) hint.pair = -1;
+    }
   }
   auto usable = [&](const StateSeed& h) {
     return h.pair >= 0 && static_cast<std::size_t>(h.pair) < pairs_.size() &&
@@ -716,6 +753,16 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       if (q.upper_bound > 0.0) r = first_contact;
     } else if (b == terrain_index_) {
       distance(models_[a], *pose[a], *terrain, q, r);
+    } else if (seed) {
+      // The same search as the last one run on this pair: the same answer.
+      if (seed->searches.size() != pairs_.size()) seed->searches.assign(pairs_.size(), StateSeed::Search{});
+      StateSeed::Search& last = seed->searches[k];
+      if (last.valid && same_search(last, *pose[a], *pose[b], q)) {
+        r = last.result;
+      } else {
+        distance(models_[a], *pose[a], models_[b], *pose[b], q, r);
+        last = StateSeed::Search{true, *pose[a], *pose[b], q, r};
+      }
     } else {
       distance(models_[a], *pose[a], models_[b], *pose[b], q, r);
     }
@@ -913,6 +960,32 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   } else {
     // As check_pairs proves a pair it searched below q.upper_bound.
     out.distance = std::max({gap, need / (1.0 + rel_tolerance) - q.abs_tolerance - out.guard, 0.0});
+  }
+}
+
+void Checker::pair_crossings(const PosedParts& posed, std::size_t k, std::size_t max,
+                             std::vector<std::array<Vec3, 6>>& out) const {
+  out.clear();
+  const PairRef& p = pairs_[k];
+  if (p.empty || p.b == terrain_index_ || max == 0) return;
+  const std::size_t a = static_cast<std::size_t>(p.a), b = static_cast<std::size_t>(p.b);
+  const Box box_a{posed.box[a].first, posed.box[a].second};
+  const Box box_b{posed.box[b].first, posed.box[b].second};
+  if (box_gap2(box_a, box_b) > 0.0) return;
+  CollideResult r;
+  collide(models_[a], *posed.pose[a], models_[b], *posed.pose[b], CollideRequest{max}, r);
+  if (!r.collide) return;
+  auto corners = [&](std::size_t part, std::uint32_t t, Vec3* x) {
+    const auto& kept = kept_[part];
+    const Mesh& mesh = scene_.parts[part].mesh;
+    const Tri& tri = mesh.triangles[kept.empty() ? t : kept[t]];
+    for (int c = 0; c < 3; ++c) x[c] = *posed.pose[part] * mesh.vertices[tri[static_cast<std::size_t>(c)]];
+  };
+  for (const auto& [ia, ib] : r.triangle_pairs) {
+    std::array<Vec3, 6> x;
+    corners(a, ia, x.data());
+    corners(b, ib, x.data() + 3);
+    out.push_back(x);
   }
 }
 

@@ -13,6 +13,7 @@
 #include "src/scene/plan.h"
 #include "src/scene/scene.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -144,6 +145,11 @@ struct CheckRequest {
   // false: stop at the first colliding part pair (in checked-pair order), so
   // contacts lists that one only. The verdict is the same.
   bool all_contacts = true;
+  // With all_contacts false: the pairs after the first contact still get
+  // their lower bounds (box gap, carried separation), only not their
+  // collision test, so a seed carries to the next state what it carries
+  // with all_contacts (verify_plans' first pass, see listed_collisions).
+  bool bounds_after_contact = false;
   // Distances need be exact only below this (m; infinity: always exact). A
   // pair proven at least this far apart (plus the guard that settles a margin
   // comparison in double) gets no exact distance; when no pair comes closer,
@@ -181,6 +187,20 @@ struct StateSeed {
   // parameters `at` (as written); empty: nothing cached.
   std::vector<double> separation;
   std::vector<double> at;
+  // Per checked pair (not the terrain's), the last exact distance search
+  // run on it: its inputs (both parts' transforms and the request) and its
+  // answer. distance() is a deterministic function of these, so a later
+  // state whose search has bitwise the same inputs (the pair's parts did not
+  // move, its seed and bound are the same) takes the answer instead of
+  // searching again: the same bits. A plan that holds a joint still keeps
+  // the pairs of the parts before it (the arm's base over the deck) in place.
+  struct Search {
+    bool valid = false;
+    Affine ta, tb;
+    DistanceRequest request;
+    DistanceResult result;
+  };
+  std::vector<Search> searches;
 };
 
 class Progress;
@@ -191,6 +211,14 @@ struct VerifyOptions {
   bool regolith = true;    // run the digging and probe passes when the scene has them
   Progress* progress = nullptr;  // counts the states checked (optional; last, so {threads, carry} still reads)
   bool verdict_only = false;     // verdict_only_request for every state (verify --verdict-only)
+  // Colliding states per plan whose contacts list up to
+  // kMaxTrianglePairsListed triangle pairs per colliding part pair, in state
+  // order (report.json lists kMaxCollisionStatesListed; report.html every
+  // one). The others list the first triangle pair of each colliding part
+  // pair: the first of the full listing. States are checked with that short
+  // listing and the listed ones again with the full request, so a plan with
+  // many colliding states lists only what its report shows.
+  std::size_t listed_collisions = std::numeric_limits<std::size_t>::max();
 };
 
 // One checked pair at one configuration, asked on its own (the sweep's
@@ -301,6 +329,13 @@ class Checker {
   // the bound need / (1 + r) (less the same).
   void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false,
                      double rel_tolerance = 0.0) const;
+  // Up to `max` intersecting triangle pairs of pair k at this pose, as
+  // collide lists them, each as its six corners in the world frame as
+  // posed here (part a's three, then b's): what a contact certificate
+  // (src/geometry/crossing.h) is built from. Empty when they do not touch,
+  // and for a terrain pair (none listed).
+  void pair_crossings(const PosedParts& posed, std::size_t k, std::size_t max,
+                      std::vector<std::array<Vec3, 6>>& out) const;
   // The parameters (indices into Scene::parameter_names) the distance of
   // pair k depends on: those read by the actions of one part's chain and
   // not the other's. The relative pose of the two parts is a function of

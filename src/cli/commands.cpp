@@ -220,6 +220,9 @@ int verify_run(const VerifyArgs& args, std::ostream& out, std::ostream& err, con
       verify_options.dig_carry = args.dig_carry;
       verify_options.progress = &progress;
       verify_options.verdict_only = args.verdict_only;
+      // report.json lists the first kMaxCollisionStatesListed colliding
+      // states of a plan; report.html all of them.
+      if (!args.html) verify_options.listed_collisions = kMaxCollisionStatesListed;
       std::vector<PlanResult> group_results = verify_plans(checker, scene, group, verify_options);
       if (args.continuous) {
         const auto tc = std::chrono::steady_clock::now();

@@ -132,6 +132,8 @@ struct Tally {
   std::size_t checked = 0;      // configurations with an exact distance (or in contact)
   std::size_t pair_checks = 0;  // certified path: single-pair answers computed
   std::size_t blocks = 0;       // certified path: blocks of the grid
+  std::size_t witnessed = 0;       // certified path: configurations in contact by a crossing witness (no test)
+  std::size_t contact_boxes = 0;  // certified path: boxes certified in contact by a crossing witness
   // Certified path: the smallest lower bound of a configuration without an
   // exact distance, and where (the closest may lie there).
   double bound_min = std::numeric_limits<double>::infinity();
@@ -369,6 +371,8 @@ struct BlockPart {
   std::vector<float> dist;
   Tally t;
   std::size_t pair_checks = 0;
+  std::size_t witnessed = 0;
+  std::size_t contact_boxes = 0;
 };
 
 void check_block_part(const Checker& checker, const Scene& scene, const Grid& grid, const SweepCertifier& certifier,
@@ -385,6 +389,8 @@ void check_block_part(const Checker& checker, const Scene& scene, const Grid& gr
   part.codes.resize(n);
   part.dist.resize(n);
   part.pair_checks = r.pair_checks;
+  part.witnessed = r.witnessed;
+  part.contact_boxes = r.contact_boxes;
   Tally& t = part.t;  // this block's part
   t = Tally{};
   t.safe_by_value.resize(axes.size());
@@ -469,6 +475,8 @@ std::string block_blob(const BlockPart& p) {
   for (int k = 0; k < 3; ++k) o.put(t.reach_hi[k]);
   o.put(static_cast<std::uint64_t>(t.checked));
   o.put(static_cast<std::uint64_t>(p.pair_checks));
+  o.put(static_cast<std::uint64_t>(p.witnessed));
+  o.put(static_cast<std::uint64_t>(p.contact_boxes));
   return s;
 }
 
@@ -511,6 +519,8 @@ void read_block_blob(std::string_view blob, BlockPart& p) {
   for (int k = 0; k < 3; ++k) t.reach_hi[k] = in.get<double>();
   t.checked = in.get<std::uint64_t>();
   p.pair_checks = in.get<std::uint64_t>();
+  p.witnessed = in.get<std::uint64_t>();
+  p.contact_boxes = in.get<std::uint64_t>();
   in.done();
 }
 
@@ -561,6 +571,8 @@ void consume_block(const SweepBlocks& blocks, const Grid& grid, const SweepArgs&
   tally.reach_hi = tally.reach_hi.cwiseMax(t.reach_hi);
   tally.checked += t.checked;
   tally.pair_checks += part.pair_checks;
+  tally.witnessed += part.witnessed;
+  tally.contact_boxes += part.contact_boxes;
 }
 
 // What decides sweep's results and files, as text: a shard writes it into
@@ -634,7 +646,13 @@ Json summary_json(const SweepArgs& args, const Scene& scene, const Checker& chec
   // Configurations whose distance is exact (in contact, or some pair
   // within the cutoff): distance.npy is a certified lower bound elsewhere.
   j["checked"] = tally.checked;
-  if (tally.blocks > 0) j["certified"] = {{"blocks", tally.blocks}, {"pair_checks", tally.pair_checks}};
+  // witnessed: configurations in contact by a box's crossing witness, with
+  // no test of their own (counted in checked: their distance, 0, is exact).
+  if (tally.blocks > 0)
+    j["certified"] = {{"blocks", tally.blocks},
+                      {"pair_checks", tally.pair_checks},
+                      {"witnessed", tally.witnessed},
+                      {"contact_boxes", tally.contact_boxes}};
   j["counts"] = {{"safe", safe},
                  {"collision", tally.count(Verdict::kCollision)},
                  {"clearance", tally.count(Verdict::kClearance)},
@@ -716,7 +734,9 @@ void print_summary(std::ostream& out, const Scene& scene, const Checker& checker
         << ", z " << num(lo.z() / unit) << " .. " << num(hi.z() / unit) << "\n";
   if (tally.blocks > 0)
     out << "  exact distances at " << tally.checked << " configurations (" << pct(tally.checked)
-        << "%); the rest certified clear of the margin in " << tally.blocks << " blocks\n";
+        << "%); the rest certified clear of the margin in " << tally.blocks << " blocks\n"
+        << "  in contact by a crossing witness, untested: " << tally.witnessed << " configurations ("
+        << pct(tally.witnessed) << "%, " << tally.contact_boxes << " boxes)\n";
   const double check_seconds = tally.check_seconds;
   char line[160];
   std::snprintf(line, sizeof line, "%zu configurations, %.3f s (load %.3f, build %.3f, check %.3f), %d threads\n",

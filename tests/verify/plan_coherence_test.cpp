@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: MIT
+// What a plan's states carry to the next (StateSeed) against the states
+// checked without it, and the plan path's short listing of contacts. The repeated-search memo (StateSeed::searches) must
+// give the very bits a fresh search gives; a seed from a state far away
+// must give the cold answer. References: the same state checked with the
+// memo emptied (bitwise), cold (within the tie tolerance), and pair by pair
+// (pose_parts + pair_distance: every pair searched exactly on its own).
+#include "src/checks/verify.h"
+#include "src/scene/scene_loader.h"
+#include "support/fixtures.h"
+#include "support/sanitized.h"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace plancheck {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kDataset = fs::path(PLANCHECK_SOURCE_DIR) / "datasets/change5";
+
+bool same_bits(double x, double y) { return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y); }
+
+void expect_same_bits(const StateResult& got, const StateResult& want, const std::string& at) {
+  ASSERT_EQ(got.collision, want.collision) << at;
+  EXPECT_TRUE(same_bits(got.min_distance, want.min_distance)) << at << ": " << got.min_distance << " vs " << want.min_distance;
+  EXPECT_EQ(got.part_a, want.part_a) << at;
+  EXPECT_EQ(got.part_b, want.part_b) << at;
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_TRUE(same_bits(got.point_a[i], want.point_a[i])) << at;
+    EXPECT_TRUE(same_bits(got.point_b[i], want.point_b[i])) << at;
+  }
+  EXPECT_TRUE(same_bits(got.distance_tolerance, want.distance_tolerance)) << at;
+  EXPECT_EQ(got.distance_is_bound, want.distance_is_bound) << at;
+  ASSERT_EQ(got.contacts.size(), want.contacts.size()) << at;
+  for (std::size_t c = 0; c < got.contacts.size(); ++c) {
+    EXPECT_EQ(got.contacts[c].part_a, want.contacts[c].part_a) << at;
+    EXPECT_EQ(got.contacts[c].part_b, want.contacts[c].part_b) << at;
+    EXPECT_EQ(got.contacts[c].triangles, want.contacts[c].triangles) << at;
+  }
+}
+
+// The smallest exact pair distance, each pair searched on its own.
+double pair_by_pair_minimum(const Checker& checker, const std::vector<double>& p) {
+  PosedParts posed;
+  checker.pose_parts(p, posed);
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < checker.pairs().size(); ++k) {
+    if (checker.pair_collides(posed, k)) return 0.0;
+    PairAnswer a;
+    checker.pair_distance(posed, k, std::numeric_limits<double>::infinity(), a);
+    if (a.exact) smallest = std::min(smallest, a.distance);
+  }
+  return smallest;
+}
+
+// Plan-like walks where joints are held for a while (so some pairs' parts
+// do not move and their searches repeat bitwise), a state repeated outright,
+// and jumps across the limits (incoherent states, seeds that cannot help).
+std::vector<std::vector<double>> held_walk(const Scene& scene, std::mt19937_64& rng, int n) {
+  std::vector<std::vector<double>> states;
+  std::vector<double> q = testing::random_state(scene, rng, 0.0);
+  std::uniform_real_distribution<double> step(-0.8, 0.8);
+  for (int i = 0; i < n; ++i) {
+    const int kind = static_cast<int>(rng() % 8);
+    if (kind == 0) {
+      q = testing::random_state(scene, rng, 0.0);  // a jump
+    } else if (kind != 1) {                          // kind 1: the same state again
+      // Move one or two parameters a little; the rest stay bitwise the same.
+      for (int m = 0; m < 1 + kind % 2; ++m) {
+        const std::size_t j = rng() % q.size();
+        q[j] += step(rng);
+      }
+    }
+    states.push_back(q);
+  }
+  return states;
+}
+
+TEST(PlanCoherence, RepeatedSearchesGiveTheBitsOfAFreshSearch) {
+  const Scene scene = load_scene(kDataset / "scene.json");
+  const Checker checker(scene);
+  std::mt19937_64 rng(20261128);
+  const int runs = testing::case_count(12, 3);
+  std::size_t remembered = 0, states = 0;
+  for (int run = 0; run < runs; ++run) {
+    const auto walk = held_walk(scene, rng, 24);
+    StateSeed with_memo, without_memo;
+    for (std::size_t s = 0; s < walk.size(); ++s) {
+      const std::string at = "run " + std::to_string(run) + " state " + std::to_string(s);
+      // Searches remembered for this state to reuse where its inputs repeat.
+      for (const StateSeed::Search& m : with_memo.searches) remembered += m.valid ? 1 : 0;
+      StateResult got, want, cold;
+      checker.check_state(walk[s], got, CheckRequest{}, &with_memo);
+      without_memo.searches.clear();  // every search run afresh, the same seed otherwise
+      checker.check_state(walk[s], want, CheckRequest{}, &without_memo);
+      expect_same_bits(got, want, at);
+      checker.check_state(walk[s], cold);
+      ASSERT_EQ(got.collision, cold.collision) << at;
+      if (!got.collision) {
+        EXPECT_NEAR(got.min_distance, cold.min_distance, 2 * kDistanceTieTolerance) << at;
+        if (s % 4 == 0) {
+          EXPECT_NEAR(got.min_distance, pair_by_pair_minimum(checker, walk[s]), 2 * kDistanceTieTolerance) << at;
+        }
+      }
+      if (::testing::Test::HasFatalFailure()) return;
+      ++states;
+    }
+  }
+  EXPECT_EQ(states, static_cast<std::size_t>(runs) * 24);
+  EXPECT_GT(remembered, 0u);
+}
+
+// verify_plans lists every contact with its triangle pairs only for the
+// first listed_collisions colliding states of a plan (what report.json
+// shows); the rest keep the first contact's first triangle pair. Against the
+// full listing of every state: everything else bitwise the same. Random
+// states as one plan (a third of them colliding), with the dig pass (the
+// dug terrain's pairs listed by it) and without.
+TEST(PlanCoherence, ListingOnlyWhatTheReportShowsKeepsEverythingElse) {
+  const Scene scene = load_scene(kDataset / "scene.json");
+  const Checker checker(scene);
+  std::mt19937_64 rng(33);
+  Plan plan;
+  plan.name = "random";
+  for (int i = 0; i < testing::case_count(160, 40); ++i) plan.states.push_back(testing::random_state(scene, rng, 0.0));
+  const std::vector<Plan> plans{plan, plan};
+  for (const bool regolith : {false, true}) {
+    VerifyOptions all{2, false, regolith};
+    VerifyOptions some = all;
+    some.listed_collisions = 5;
+    const auto want = verify_plans(checker, scene, plans, all);
+    const auto got = verify_plans(checker, scene, plans, some);
+    std::size_t short_listed = 0;
+    for (std::size_t p = 0; p < plans.size(); ++p) {
+      std::size_t colliding = 0;
+      for (std::size_t s = 0; s < plan.states.size(); ++s) {
+        const std::string at = "regolith " + std::to_string(regolith) + " plan " + std::to_string(p) + " state " + std::to_string(s);
+        const StateResult& g = got[p].states[s];
+        const StateResult& w = want[p].states[s];
+        if (!w.collision || colliding++ < some.listed_collisions) {
+          expect_same_bits(g, w, at);
+          continue;
+        }
+        // The full listing cut to the first contact's first triangle pair
+        // (and the dug terrain's contacts, listed by the dig pass).
+        StateResult first = w;
+        first.contacts.clear();
+        bool kept_first = false;
+        for (const PairContact& c : w.contacts) {
+          if (regolith && c.part_b == checker.terrain_index()) {
+            first.contacts.push_back(c);
+            continue;
+          }
+          if (kept_first) continue;
+          kept_first = true;
+          first.contacts.push_back(c);
+          first.contacts.back().triangles.resize(1);
+        }
+        expect_same_bits(g, first, at);
+        for (const PairContact& c : w.contacts) short_listed += c.triangles.size() > 1 ? 1 : 0;
+        if (::testing::Test::HasFatalFailure()) return;
+      }
+      EXPECT_GT(colliding, some.listed_collisions) << "regolith " << regolith;
+    }
+    EXPECT_GT(short_listed, 0u) << "regolith " << regolith;  // some listing was cut
+  }
+}
+
+}  // namespace
+}  // namespace plancheck
