@@ -189,7 +189,8 @@ void check_one(const detail::Snapshot& d, const std::vector<double>& params, Sta
 void motion_one(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
                 MotionResult& out, const MotionOptions& options) {
   plancheck_core::StateResult sa, sb;
-  const plancheck_core::SegmentResult g = d.segments().check_motion(from, to, options.verdict_only, sa, sb);
+  double until = 0.0;
+  const plancheck_core::SegmentResult g = d.segments().check_motion(from, to, options.verdict_only, sa, sb, &until);
   const plancheck_core::Scene& scene = d.scene->scene;
   const double unit = scene.length_scale;
   out = MotionResult{};
@@ -218,6 +219,10 @@ void motion_one(const detail::Snapshot& d, const std::vector<double>& from, cons
     out.verdict = public_verdict(plancheck_core::state_verdict(sb, scene.safety_margin));
     if (out.verdict != Verdict::kSafe) out.t = 1.0;
   }
+  if (out.verdict == Verdict::kSafe)
+    out.safe_until = 1.0;
+  else if (v0 == Verdict::kSafe && (g.collision || g.clearance))
+    out.safe_until = until;
   if (a >= 0) {
     out.part_a_index = a;
     out.part_b_index = b;

@@ -51,6 +51,48 @@ Sample to_sample(double t, const StateResult& s) {
   return out;
 }
 
+// The two passes both algorithms run: against the margin (when there is
+// one), then, where it found a witness (or without a margin), against
+// contact; certify(target, limit, contact, lower) returns the pass's first
+// witness (t, a, b) or nothing, and sets gave_up when the budget ran out.
+template <class Certify>
+void two_passes(double margin, const ContinuousOptions& options, const bool& gave_up, SegmentResult& out,
+                Certify&& certify) {
+  double lower = std::numeric_limits<double>::infinity();
+  auto witness = decltype(certify(0.0, 0.0, false, lower)){};
+  bool check_contact = true;
+  if (margin > 0.0) {
+    witness = certify(margin, margin + options.tolerance, false, lower);
+    check_contact = witness.has_value();
+  }
+  bool collision = false;
+  if (check_contact && !gave_up) {
+    // Touching anywhere on the segment, or within contact_tolerance of it?
+    lower = std::numeric_limits<double>::infinity();
+    const auto contact = certify(0.0, options.contact_tolerance, true, lower);
+    if (contact) {
+      collision = true;
+      witness = contact;
+      lower = 0.0;
+    }
+  }
+  if (witness) {
+    out.collision = collision;
+    out.clearance = margin > 0.0;
+    out.witness_t = witness->t;
+    out.part_a = witness->a;
+    out.part_b = witness->b;
+  }
+  if (gave_up && !out.clearance && !out.collision) {
+    // Not certified: a violation (counted as clearance), naming no pair.
+    out.clearance = true;
+    out.part_a = out.part_b = -1;
+    out.witness_t = -1.0;
+  }
+  out.lower_bound = lower;
+  out.unresolved = gave_up;
+}
+
 }  // namespace
 
 SegmentChecker::SegmentChecker(const Checker& checker, const Scene& scene, const ContinuousOptions& options)
@@ -77,6 +119,19 @@ double SegmentChecker::pair_bound(const std::vector<double>& qa, const std::vect
 SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::vector<double>& qb,
                                     const StateResult& sa, const StateResult& sb, const Heightfield* terrain,
                                     bool sb_on_terrain) const {
+  if (terrain && !sb_on_terrain) {
+    // sb shows qb after its own dig; the motion meets the terrain before it.
+    StateResult sb_before;
+    checker_.check_state_without_terrain(qb, sb_before, row_request());
+    checker_.check_terrain(qb, *terrain, sb_before);
+    return run_pairs(qa, qb, sa, sb_before, nullptr, terrain);
+  }
+  return run_pairs(qa, qb, sa, sb, nullptr, terrain);
+}
+
+SegmentResult SegmentChecker::check_reference(const std::vector<double>& qa, const std::vector<double>& qb,
+                                              const StateResult& sa, const StateResult& sb,
+                                              const Heightfield* terrain, bool sb_on_terrain) const {
   return run(qa, qb, sa, sb, terrain, sb_on_terrain, false);
 }
 
@@ -84,8 +139,32 @@ double SegmentChecker::first_limit() const {
   return margin_ > 0.0 ? margin_ + options_.tolerance : options_.contact_tolerance;
 }
 
+double SegmentChecker::end_limit(const std::vector<double>& qa, const std::vector<double>& qb) const {
+  double m = 0.0;
+  for (const auto& [a, b] : pairs_) {
+    const double s = bound_.pair_bound(a, b, qa, qb);
+    if (!(s <= m)) m = s;  // NaN or infinity propagates
+  }
+  // At most the margin (the tolerance without one) beyond the first limit:
+  // an end state's exact distances far beyond the margin cost dearly (at a
+  // metre, a search explores thousands of terrain triangles) and certify
+  // little that the pairs' own bounded searches do not.
+  const double e = first_limit() + std::min(0.5 * m, std::max(margin_, options_.tolerance));
+  return e < std::numeric_limits<double>::infinity() ? e : std::numeric_limits<double>::infinity();
+}
+
 SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const std::vector<double>& qb,
-                                           bool verdict_only, StateResult& sa, StateResult& sb) const {
+                                           bool verdict_only, StateResult& sa, StateResult& sb,
+                                           double* certified_until) const {
+  CheckRequest request = row_request();
+  if (verdict_only) request.exact_below = end_limit(qa, qb);
+  checker_.check_state(qa, sa, request);
+  checker_.check_state(qb, sb, request);
+  return run_pairs(qa, qb, sa, sb, certified_until);
+}
+
+SegmentResult SegmentChecker::check_motion_reference(const std::vector<double>& qa, const std::vector<double>& qb,
+                                                     bool verdict_only, StateResult& sa, StateResult& sb) const {
   CheckRequest request = row_request();
   if (verdict_only) {
     // Ends exact up to half the segment's motion beyond the first pass's
@@ -214,40 +293,7 @@ SegmentResult SegmentChecker::run(const std::vector<double>& qa, const std::vect
     return std::nullopt;
   };
 
-  std::optional<Sample> witness;
-  double lower = std::numeric_limits<double>::infinity();
-  bool check_contact = true;
-  if (margin_ > 0.0) {
-    witness = certify(margin_, margin_ + options_.tolerance, false, lower);
-    check_contact = witness.has_value();
-    if (witness) {
-      out.clearance = true;
-      out.witness_t = witness->t;
-      out.part_a = witness->a;
-      out.part_b = witness->b;
-    }
-  }
-  if (check_contact && !gave_up) {
-    // Touching anywhere on the segment, or within contact_tolerance of it?
-    lower = std::numeric_limits<double>::infinity();
-    const auto contact = certify(0.0, options_.contact_tolerance, true, lower);
-    if (contact) {
-      out.collision = true;
-      out.clearance = margin_ > 0.0;
-      out.witness_t = contact->t;
-      out.part_a = contact->a;
-      out.part_b = contact->b;
-      lower = 0.0;
-    }
-  }
-  if (gave_up && !out.clearance && !out.collision) {
-    // Not certified: a violation (counted as clearance), naming no pair.
-    out.clearance = true;
-    out.part_a = out.part_b = -1;
-    out.witness_t = -1.0;
-  }
-  out.lower_bound = lower;
-  out.unresolved = gave_up;
+  two_passes(margin_, options_, gave_up, out, certify);
   for (const auto& [t, s] : samples) {
     if (s.bound || !(s.d < out.min_sampled)) continue;
     out.min_sampled = s.d;
@@ -256,6 +302,246 @@ SegmentResult SegmentChecker::run(const std::vector<double>& qa, const std::vect
       out.part_b = s.b;
     }
   }
+  return out;
+}
+
+// The per-pair algorithm. The reference above bisects the whole segment
+// until the largest motion of any pair is below the least distance of any
+// pair: a slow part near the lander is bisected for the scoop's speed, and
+// every midpoint costs a whole configuration's check. Here each checked pair
+// k carries its own certificate: on a sub-interval [ta, tb] with lower
+// bounds la, lb on its distance at the ends and M_k bounding how much that
+// distance can change over it (MotionBound::pair_bound: its two parts'
+// motion relative to each other, times the sub-interval's share of the
+// segment), its distance stays at least min(la, lb, (la + lb - M_k) / 2).
+// A pair whose bound clears the target drops out of the sub-interval; only
+// the pairs left are posed and asked at its midpoint, each only up to the
+// distance that would certify both halves for it (beyond, a bound from its
+// BVH search or box gap suffices), each search started from that pair's
+// closest triangles found before on the segment.
+//
+// At the ends every pair is at least its box gap and min(its state's least
+// distance, end_limit): the same numbers whether the end states were checked
+// fully or verdict-only, so both modes take the same steps and find the
+// same witness. Midpoints are asked the same questions in both modes.
+namespace {
+// The relative tolerance of the motion checks' pair searches.
+constexpr double kRel = 1.0;
+}  // namespace
+
+SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std::vector<double>& qb,
+                                        const StateResult& sa, const StateResult& sb,
+                                        double* certified_until, const Heightfield* terrain) const {
+  SegmentResult out;
+  double until = 0.0;
+  out.checked = true;
+  const std::size_t np = pairs_.size();
+  const double e_limit = end_limit(qa, qb);
+  // Per pair: how much its distance can change per unit of t (padded for
+  // the product with a sub-interval's length), its ends' box gaps and
+  // guards, and its closest triangles found so far.
+  struct PairData {
+    double rate = 0.0;
+    double gap_a = 0.0, gap_b = 0.0, guard_a = kDistanceTolerance, guard_b = kDistanceTolerance;
+    bool live = false;  // checked at all (not an empty part, not a missing terrain)
+    bool seeded = false;
+    std::uint32_t slot_a = 0, slot_b = 0;
+  };
+  std::vector<PairData> pd(np);
+  PosedParts posed;
+  posed.terrain = terrain;
+  PairAnswer answer;
+  checker_.pose_parts(qa, posed);
+  for (std::size_t k = 0; k < np; ++k) {
+    answer = PairAnswer{};
+    checker_.pair_distance(posed, k, 0.0, answer);  // need 0: the box gap and guard only
+    pd[k].gap_a = answer.distance;
+    pd[k].guard_a = answer.guard;
+    pd[k].live = answer.distance != std::numeric_limits<double>::infinity();  // NaN stays live
+  }
+  checker_.pose_parts(qb, posed);
+  for (std::size_t k = 0; k < np; ++k) {
+    answer = PairAnswer{};
+    checker_.pair_distance(posed, k, 0.0, answer);
+    pd[k].gap_b = answer.distance;
+    pd[k].guard_b = answer.guard;
+    pd[k].live = pd[k].live || answer.distance != std::numeric_limits<double>::infinity();
+    const auto [a, b] = pairs_[k];
+    pd[k].rate = bound_.pair_bound(a, b, qa, qb) * (1.0 + 1e-12);
+  }
+  std::vector<double> q;
+  auto point = [&](double t) -> const std::vector<double>& {
+    if (t == 0.0) return qa;
+    if (t == 1.0) return qb;
+    state_between(qa, qb, t, q);
+    return q;
+  };
+  auto note_sample = [&](double d, int a, int b) {
+    if (d < out.min_sampled) {
+      out.min_sampled = d;
+      out.part_a = a;
+      out.part_b = b;
+    }
+  };
+  // The end states as samples; a verdict-only bound below a limit (never,
+  // as end_limit lies above both limits) would be made exact.
+  StateResult exact_end;
+  auto end_sample = [&](double t, const StateResult& st) {
+    Sample smp = to_sample(t, st);
+    if (smp.bound && !(smp.d >= first_limit())) {
+      checker_.check_state(point(t), exact_end, row_request());  // (never with a dug terrain: ends exact)
+      smp = to_sample(t, exact_end);
+    }
+    return smp;
+  };
+  const Sample end0 = end_sample(0.0, sa), end1 = end_sample(1.0, sb);
+  for (const Sample* e : {&end0, &end1})
+    if (!e->bound) note_sample(e->d, e->a, e->b);
+  const double floor_a = std::min(end0.d, e_limit), floor_b = std::min(end1.d, e_limit);
+
+  struct Item {
+    std::uint32_t k;
+    double la, lb, ga, gb;  // lower bounds on the pair's distance at the span's ends, their guards
+  };
+  struct Span {
+    double ta, tb;
+    std::size_t begin;  // its items: arena[begin, the next span's begin or the arena's end)
+  };
+  std::vector<Item> arena, active;
+  std::vector<Span> stack;
+  std::vector<double> mid_value, mid_guard;
+  std::vector<int> parts;
+  bool gave_up = false;
+
+  struct Witness {
+    double t;
+    int a, b;
+  };
+  // Where the first pass's certificate from t = 0 stops: spans are taken
+  // left first, so when span [ta, tb] is taken everything before ta is
+  // certified; a witness or the budget stops it at that span's ta.
+  double reached = 0.0;
+  bool first_pass = true;
+  auto item_bound = [&](const Item& it, double len) {
+    const double m = pd[it.k].rate * len;
+    return std::min({it.la, it.lb, 0.5 * (it.la + it.lb - m)});
+  };
+  // One pass against `target` (as the reference's certify): the first
+  // witness found, or nothing when every pair is certified on every piece
+  // (or the budget ran out: gave_up); `lower` gets the least bound.
+  auto certify = [&](double target, double limit, bool contact, double& lower) -> std::optional<Witness> {
+    for (const Sample* e : {&end0, &end1})
+      if ((contact && e->collision) || e->d < limit) return Witness{e->t, e->a, e->b};
+    arena.clear();
+    stack.clear();
+    for (std::size_t k = 0; k < np; ++k)
+      if (pd[k].live)
+        arena.push_back({static_cast<std::uint32_t>(k), std::max(pd[k].gap_a, floor_a), std::max(pd[k].gap_b, floor_b),
+                         pd[k].guard_a, pd[k].guard_b});
+    stack.push_back({0.0, 1.0, 0});
+    while (!stack.empty()) {
+      const Span sp = stack.back();
+      stack.pop_back();
+      const double len = sp.tb - sp.ta;
+      active.clear();
+      for (std::size_t i = sp.begin; i < arena.size(); ++i) {
+        const Item& it = arena[i];
+        const double lb = item_bound(it, len);
+        if (lb >= target + std::max(it.ga, it.gb))
+          lower = std::min(lower, lb);
+        else
+          active.push_back(it);
+      }
+      arena.resize(sp.begin);
+      if (active.empty()) continue;
+      const double tm = 0.5 * (sp.ta + sp.tb);
+      if (first_pass) reached = sp.ta;
+      if (out.steps >= options_.max_steps || !(tm > sp.ta && tm < sp.tb)) {
+        // Cannot be settled: a violation without a witness, never a false
+        // safe; what is left unsettled is bounded as it stands.
+        gave_up = true;
+        auto settle = [&](const Item& it, double l) {
+          const double b = item_bound(it, l);
+          lower = std::min(lower, std::isfinite(b) ? std::max(b, 0.0) : 0.0);
+        };
+        for (const Item& it : active) settle(it, len);
+        for (std::size_t j = 0; j < stack.size(); ++j) {
+          const std::size_t end = j + 1 < stack.size() ? stack[j + 1].begin : arena.size();
+          for (std::size_t i = stack[j].begin; i < end; ++i) settle(arena[i], stack[j].tb - stack[j].ta);
+        }
+        return std::nullopt;
+      }
+      ++out.steps;
+      const std::vector<double>& at = point(tm);
+      parts.clear();
+      for (const Item& it : active)
+        for (int p : {pairs_[it.k].first, pairs_[it.k].second})
+          if (std::find(parts.begin(), parts.end(), p) == parts.end()) parts.push_back(p);
+      checker_.pose_parts(at, posed, parts);
+      mid_value.resize(active.size());
+      mid_guard.resize(active.size());
+      for (std::size_t i = 0; i < active.size(); ++i) {
+        const Item& it = active[i];
+        PairData& p = pd[it.k];
+        const auto [a, b] = pairs_[it.k];
+        const double half = 0.5 * p.rate * len;
+        const double g = std::max(it.ga, it.gb);
+        // Proven apart here by either end: no collision test needed.
+        const double apart = std::max(it.la, it.lb) - half - g;
+        if (!(apart > 0.0) && checker_.pair_collides(posed, it.k)) {
+          note_sample(0.0, a, b);
+          return Witness{tm, a, b};
+        }
+        // Asked only up to what certifies both halves for this pair (the
+        // slack covers what pair_distance takes off a bound it proves), and
+        // within a factor 1 + kRel: a search within a factor costs little
+        // at long range, where an exact one is dear. Its lower bound
+        // decides; an exact distance only where that bound is below the
+        // limit (a witness is always an exact distance).
+        double need = std::max(limit, 2.0 * (target + g) + half - std::min(it.la, it.lb));
+        need += 2.0 * (g + kDistanceTieTolerance) + 1e-12 * std::abs(need);
+        answer = PairAnswer{};
+        answer.seeded = p.seeded;
+        answer.slot_a = p.slot_a;
+        answer.slot_b = p.slot_b;
+        checker_.pair_distance(posed, it.k, need * (1.0 + kRel), answer, false, kRel);
+        if (answer.distance < limit) {
+          // Something within the factor of the limit was found (a bound
+          // proven from nothing found lies above it): exact, below it,
+          // from the triangles it found.
+          checker_.pair_distance(posed, it.k, answer.upper * (1.0 + 1e-12) + 1e-15, answer);
+        }
+        if (answer.seeded) {
+          p.seeded = true;
+          p.slot_a = answer.slot_a;
+          p.slot_b = answer.slot_b;
+        }
+        if (answer.exact) {
+          note_sample(answer.distance, a, b);
+          if (answer.distance < limit) return Witness{tm, a, b};
+        }
+        mid_value[i] = answer.distance;
+        mid_guard[i] = answer.guard;
+      }
+      const std::size_t right = arena.size();
+      for (std::size_t i = 0; i < active.size(); ++i)
+        arena.push_back({active[i].k, mid_value[i], active[i].lb, mid_guard[i], active[i].gb});
+      stack.push_back({tm, sp.tb, right});
+      const std::size_t left = arena.size();
+      for (std::size_t i = 0; i < active.size(); ++i)
+        arena.push_back({active[i].k, active[i].la, mid_value[i], active[i].ga, mid_guard[i]});
+      stack.push_back({sp.ta, tm, left});
+    }
+    return std::nullopt;
+  };
+
+  two_passes(margin_, options_, gave_up, out, [&](double target, double limit, bool contact, double& lower) {
+    const std::optional<Witness> w = certify(target, limit, contact, lower);
+    if (first_pass) until = w || gave_up ? reached : 1.0;
+    first_pass = false;
+    return w;
+  });
+  if (certified_until) *certified_until = until;
   return out;
 }
 

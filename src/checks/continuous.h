@@ -78,8 +78,22 @@ class SegmentChecker {
   // distances only where they decide something; sa, sb and lower_bound may
   // then be certified bounds (StateResult::distance_is_bound) and
   // min_sampled counts only exact samples. Thread-safe.
+  // certified_until (optional): the segment is certified clear of the
+  // first pass's target (the margin; contact without one) from qa up to this
+  // fraction of it: 1 when nothing is found, else where the certificate
+  // stopped before the first witness (0 at an end).
   SegmentResult check_motion(const std::vector<double>& qa, const std::vector<double>& qb, bool verdict_only,
-                             StateResult& sa, StateResult& sb) const;
+                             StateResult& sa, StateResult& sb, double* certified_until = nullptr) const;
+
+  // The previous algorithm, kept as the slow reference of the tests: one
+  // bound for all pairs (pair_bound) against the least distance of any pair,
+  // a whole configuration checked at each bisection midpoint. Same
+  // contract, the same arguments as check and check_motion.
+  SegmentResult check_reference(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
+                                const StateResult& sb, const Heightfield* terrain = nullptr,
+                                bool sb_on_terrain = false) const;
+  SegmentResult check_motion_reference(const std::vector<double>& qa, const std::vector<double>& qb,
+                                       bool verdict_only, StateResult& sa, StateResult& sb) const;
 
   // Upper bound (m) on how much any checked pair's distance can change while
   // the parameters go linearly from qa to qb: the largest sum of the two
@@ -89,8 +103,19 @@ class SegmentChecker {
   const ContinuousOptions& options() const { return options_; }
 
  private:
+  // The reference algorithm (check_reference).
   SegmentResult run(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
                     const StateResult& sb, const Heightfield* terrain, bool sb_on_terrain, bool verdict_only) const;
+  // The per-pair algorithm (check, check_motion on the scene's terrain).
+  SegmentResult run_pairs(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
+                          const StateResult& sb, double* certified_until = nullptr,
+                          const Heightfield* terrain = nullptr) const;
+  // Where the end states' distances count (m): exact below it in
+  // check_motion's verdict-only end checks, and every pair at least
+  // min(its state's distance, this) at an end in both modes, so that both
+  // modes take the same steps. First limit plus half the largest pair motion:
+  // two ends that far clear certify the whole segment at once.
+  double end_limit(const std::vector<double>& qa, const std::vector<double>& qb) const;
   // The distance a violation witness lies below: the first pass's.
   double first_limit() const;
 

@@ -932,9 +932,10 @@ bool Checker::pair_collides(const PosedParts& posed, std::size_t k) const {
   const Box box_a{posed.box[static_cast<std::size_t>(a)].first, posed.box[static_cast<std::size_t>(a)].second};
   CollideResult r;
   if (b == terrain_index_) {
-    if (!(terrain_ && terrain_->triangle_count() > 0)) return false;
-    if (box_gap2(box_a, terrain_root_box(*terrain_)) > 0.0) return false;
-    collide(models_[a], pa, *terrain_, CollideRequest{0}, r);
+    const Heightfield* field = posed.terrain ? posed.terrain : terrain_.get();
+    if (!(field && field->triangle_count() > 0)) return false;
+    if (box_gap2(box_a, terrain_root_box(*field)) > 0.0) return false;
+    collide(models_[a], pa, *field, CollideRequest{0}, r);
   } else {
     const Box box_b{posed.box[static_cast<std::size_t>(b)].first, posed.box[static_cast<std::size_t>(b)].second};
     if (box_gap2(box_a, box_b) > 0.0) return false;
@@ -943,7 +944,8 @@ bool Checker::pair_collides(const PosedParts& posed, std::size_t k) const {
   return r.collide;
 }
 
-void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide) const {
+void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide,
+                            double rel_tolerance) const {
   const PairRef& p = pairs_[k];
   const bool seeded = out.seeded;
   const std::uint32_t seed_a = out.slot_a, seed_b = out.slot_b;
@@ -952,9 +954,10 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   if (p.empty) return;  // never checked: no bound from it
   const int a = p.a, b = p.b;
   const bool on_terrain = b == terrain_index_;
-  if (on_terrain && !(terrain_ && terrain_->triangle_count() > 0)) return;
+  const Heightfield* field = posed.terrain ? posed.terrain : terrain_.get();
+  if (on_terrain && !(field && field->triangle_count() > 0)) return;
   const Box box_a{posed.box[static_cast<std::size_t>(a)].first, posed.box[static_cast<std::size_t>(a)].second};
-  const Box box_b = on_terrain ? terrain_root_box(*terrain_)
+  const Box box_b = on_terrain ? terrain_root_box(*field)
                                : Box{posed.box[static_cast<std::size_t>(b)].first, posed.box[static_cast<std::size_t>(b)].second};
   const double g2 = box_gap2(box_a, box_b);
   const double gap = g2 > 0.0 ? std::sqrt(g2) : 0.0;
@@ -970,7 +973,7 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
     out.distance = gap;
     return;
   }
-  DistanceRequest q{need, 0.0, kDistanceTieTolerance};
+  DistanceRequest q{need, rel_tolerance, kDistanceTieTolerance};
   q.first_below = decide;
   q.known_disjoint = true;  // the caller ran pair_collides
   if (seeded) {
@@ -980,10 +983,18 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   const Affine& pa = *posed.pose[static_cast<std::size_t>(a)];
   DistanceResult r;
   if (on_terrain)
-    distance(models_[a], pa, *terrain_, q, r);
+    distance(models_[a], pa, *field, q, r);
   else
     distance(models_[a], pa, models_[b], *posed.pose[static_cast<std::size_t>(b)], q, r);
-  if (r.found) {
+  if (r.found && rel_tolerance > 0.0) {
+    // Within the factor: the pair skipped for the one found had a lower
+    // bound at least min(best / (1 + r), best - tie), best >= r.distance.
+    out.distance = std::max({gap, r.distance / (1.0 + rel_tolerance) - q.abs_tolerance - out.guard, 0.0});
+    out.upper = r.distance;
+    out.seeded = true;
+    out.slot_a = r.slot_a;
+    out.slot_b = r.slot_b;
+  } else if (r.found) {
     out.exact = !decide;
     out.distance = decide ? gap : r.distance;
     out.upper = r.distance;
@@ -992,7 +1003,7 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
     out.slot_b = r.slot_b;
   } else {
     // As check_pairs proves a pair it searched below q.upper_bound.
-    out.distance = std::max({gap, need - q.abs_tolerance - out.guard, 0.0});
+    out.distance = std::max({gap, need / (1.0 + rel_tolerance) - q.abs_tolerance - out.guard, 0.0});
   }
 }
 

@@ -240,6 +240,9 @@ struct PosedParts {
   std::vector<Affine> chains;
   std::vector<const Affine*> pose;                // per checked part
   std::vector<std::pair<Vec3, Vec3>> box;         // per checked part: world box, padded
+  // The terrain the terrain pairs meet (a dug copy of Checker::terrain(),
+  // refit where digging changed it); nullptr: the undisturbed terrain.
+  const Heightfield* terrain = nullptr;
 };
 
 // Collision structures of a scene, built once; immutable and shared by threads.
@@ -331,7 +334,13 @@ class Checker {
   // parts (optional): pose only these (and their chains); others keep what they held.
   void pose_parts(const std::vector<double>& params, PosedParts& out, std::span<const int> parts = {}) const;
   bool pair_collides(const PosedParts& posed, std::size_t k) const;
-  void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false) const;
+  // rel_tolerance r > 0 (the motion checks' cheap bound): a search within
+  // a factor 1 + r, far cheaper than an exact one at long range; the answer
+  // is then never exact: a distance found gives upper and the lower bound
+  // upper / (1 + r) (less the tie tolerance and the guard), nothing found
+  // the bound need / (1 + r) (less the same).
+  void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false,
+                     double rel_tolerance = 0.0) const;
   // Up to `max` intersecting triangle pairs of pair k at this pose, as
   // collide lists them, each as its six corners in the world frame as
   // posed here (part a's three, then b's): what a contact certificate

@@ -63,6 +63,28 @@ MotionBound::MotionBound(const Scene& scene) : scene_(scene) {
 }
 
 double MotionBound::part_bound(int part, std::span<const double> qa, std::span<const double> qb) const {
+  return bound_from(part, 0, qa, qb);
+}
+
+double MotionBound::pair_bound(int a, int b, std::span<const double> qa, std::span<const double> qb) const {
+  auto chain = [&](int part) -> const std::vector<int>* {
+    if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return nullptr;
+    return &scene_.parts[static_cast<std::size_t>(part)].chain;
+  };
+  const std::vector<int>* ca = chain(a);
+  const std::vector<int>* cb = chain(b);
+  // Chains run from the root: shared actions are a common prefix. Only a
+  // rigid one (an isometry for every parameter value) keeps distances.
+  std::size_t common = 0;
+  if (ca && cb)
+    while (common < ca->size() && common < cb->size() && (*ca)[common] == (*cb)[common] &&
+           scene_.actions[static_cast<std::size_t>((*ca)[common])].type != ActionType::kScale)
+      ++common;
+  return bound_from(a, common, qa, qb) + bound_from(b, common, qa, qb);
+}
+
+double MotionBound::bound_from(int part, std::size_t first, std::span<const double> qa,
+                               std::span<const double> qb) const {
   if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return 0.0;
   const Part& p = scene_.parts[static_cast<std::size_t>(part)];
   if (!p.moving()) return 0.0;
@@ -76,7 +98,8 @@ double MotionBound::part_bound(int part, std::span<const double> qa, std::span<c
   double norms[64] = {};
   const std::size_t k = p.chain.size();
   if (k > 64) return std::numeric_limits<double>::infinity();  // no scene nests that deep
-  for (std::size_t n = k; n-- > 0;) {
+  if (first >= k) return 0.0;  // every action shared with the other part
+  for (std::size_t n = k; n-- > first;) {
     const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
     const std::size_t f = static_cast<std::size_t>(a.first_parameter);
     const bool innermost = n + 1 == k;
@@ -127,7 +150,7 @@ double MotionBound::part_bound(int part, std::span<const double> qa, std::span<c
   }
   // Outer linear norms: L_{<i} = product of norms of the actions above i.
   double total = 0.0, outer = 1.0;
-  for (std::size_t n = 0; n < k; ++n) {
+  for (std::size_t n = first; n < k; ++n) {
     total += outer * contribution[n];
     outer *= norms[n];
   }

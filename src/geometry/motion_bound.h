@@ -24,6 +24,15 @@ class MotionBound {
   // static parts. Padded for rounding; +infinity when an input is not finite.
   double part_bound(int part, std::span<const double> qa, std::span<const double> qb) const;
 
+  // An upper bound (m) on how much the distance between parts a and b can
+  // change over the same motion: the sum of their part_bound, except that
+  // the actions both chains begin with, when all rigid (rotations and
+  // translations), move both parts alike and leave their distance as it is:
+  // then only each chain's own actions after them count (a link and its
+  // neighbour on one arm move relative to each other by the joints between
+  // them only). Indices past the parts are static, as in part_bound.
+  double pair_bound(int a, int b, std::span<const double> qa, std::span<const double> qb) const;
+
  private:
   struct PartExtent {
     Vec3 centre = Vec3::Zero();  // bounding-sphere centre of the vertices (m)
@@ -32,6 +41,10 @@ class MotionBound {
     double inner_radius = 0.0;   // max |x - c| (m)
     double inner_arm = 0.0;      // rotate: max distance of a vertex from its axis (m)
   };
+  // part_bound over the chain's actions from index `first` inward (the
+  // motion in the frame the first `first` actions map into the world).
+  double bound_from(int part, std::size_t first, std::span<const double> qa, std::span<const double> qb) const;
+
   const Scene& scene_;
   std::vector<PartExtent> extents_;
 };

@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -89,6 +90,7 @@ void plan_and_verify(const std::string& name, const fs::path& scene_path, const 
   std::string plans;
   double plan_seconds = 0.0;
   std::size_t states = 0;
+  int partly_valid = 0;  // unsafe straight motions whose lastValid lies beyond the start
   for (int q = 0; q < queries; ++q) {
     // Two safe states whose straight motion is not: something in the way.
     bool found = false;
@@ -100,6 +102,28 @@ void plan_and_verify(const std::string& name, const fs::path& scene_path, const 
       found = m.verdict != plancheck::Verdict::kSafe && (obstacle.empty() || m.part_a == obstacle || m.part_b == obstacle);
     }
     if (!found) return fail(name + ": no start/goal pair with an obstacle in the way");
+    {
+      // The validator's lastValid: the certified-safe stretch from the
+      // start, which check_motion then finds safe (with its own certificate).
+      std::pair<ob::State*, double> last(si->allocState(), -1.0);
+      if (si->getMotionValidator()->checkMotion(start.get(), goal.get(), last))
+        fail(name + ": an unsafe motion passed the validator");
+      if (!(last.second >= 0.0 && last.second < 1.0)) fail(name + ": lastValid fraction out of [0, 1)");
+      if (last.second > 0.0) {
+        ++partly_valid;
+        // Safe, or flagged only within the tolerance above the margin
+        // (where the certificate stopped: its witness is no closer).
+        const auto m = checker->check_motion(values(start.get(), n), values(last.first, n));
+        bool bad = m.verdict == plancheck::Verdict::kCollision || m.verdict == plancheck::Verdict::kLimits;
+        if (m.verdict == plancheck::Verdict::kClearance) {
+          ob::ScopedState<> w(si);
+          si->getStateSpace()->interpolate(start.get(), last.first, std::isnan(m.t) ? 1.0 : m.t, w.get());
+          bad = checker->check(values(w.get(), n)).min_distance < checker->scene().safety_margin();
+        }
+        if (bad) fail(name + ": the motion up to lastValid is not safe");
+      }
+      si->freeState(last.first);
+    }
     ss.clear();
     ss.setStartAndGoalStates(start, goal);
     const auto p0 = std::chrono::steady_clock::now();
@@ -132,6 +156,7 @@ void plan_and_verify(const std::string& name, const fs::path& scene_path, const 
   std::printf("%s: %d queries, %zu path states, load+build %.2f s, plan+simplify %.3f s, verify --continuous exit %d\n",
               name.c_str(), queries, states, load_seconds, plan_seconds, code);
   if (code != 0) fail(name + ": verify --continuous exit " + std::to_string(code) + ":\n" + read_text(dir / "verify.txt"));
+  if (partly_valid == 0) fail(name + ": no unsafe motion was certified any way from its start (lastValid)");
 }
 
 }  // namespace

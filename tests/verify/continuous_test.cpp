@@ -10,6 +10,7 @@
 #include "src/checks/verify.h"
 #include "support/fixtures.h"
 #include "support/sanitized.h"
+#include "tests/verify/bar_scene.h"
 #include "tests/verify/dense_sampling.h"
 
 #include <gtest/gtest.h>
@@ -29,22 +30,9 @@ using testing::write_text;
 constexpr double kMargin = 0.05;
 const std::string kPlancheck = std::string(PLANCHECK_BINARY_DIR) + "/plancheck";
 
-// Bar [0.2, 2] x [-0.05, 0.05] x [0.95, 1.05] on the chain Slew (rotate about
-// +z through the origin, outermost), Boom (translate along +x), Grow (scale
-// about (0, 0, 1), innermost). Posts are static boxes.
+// The slewing bar past posts (bar_scene.h).
 void write_scene(const TempDir& dir, const std::vector<std::pair<Vec3, Vec3>>& posts) {
-  std::vector<std::pair<std::string, Mesh>> parts{{"Bar", testing::box_mesh({0.2, -0.05, 0.95}, {2, 0.05, 1.05})}};
-  for (std::size_t i = 0; i < posts.size(); ++i)
-    parts.emplace_back("Post" + std::to_string(i), testing::box_mesh(posts[i].first, posts[i].second));
-  testing::write_obj(dir / "model.obj", parts);
-  write_text(dir / "scene.json", R"({
-  "format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m", "angle_unit": "deg",
-  "actions": [
-    {"name": "Slew", "node": "Bar", "type": "rotate", "pivot": [0, 0, 0], "axis": [0, 0, 1]},
-    {"name": "Boom", "node": "Bar", "type": "translate", "axis": [1, 0, 0]},
-    {"name": "Grow", "node": "Bar", "type": "scale", "fixed_point": [0, 0, 1]}],
-  "safety_margin": 0.05
-})");
+  testing::write_bar_scene(dir, posts);
 }
 
 // Plan rows: Slew (deg), Boom (m), Grow.x (the other factors stay 1).

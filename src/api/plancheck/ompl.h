@@ -97,32 +97,40 @@ class StateValidityChecker : public ::ompl::base::StateValidityChecker {
 };
 
 // Certified motion validation: Checker::check_motion in verdict-only mode
-// (both ends included). With lastValid, an invalid motion reports its
-// start as the last valid point (fraction 0): the certified answer says
-// where the first violation's witness lies, not up to where the motion was
-// proven clear.
+// (both ends included). With lastValid, an invalid motion reports how far
+// from s1 it was certified safe (MotionResult::safe_until: the fraction,
+// and the state there), 0 and s1 when nothing beyond s1 was proven.
 class MotionValidator : public ::ompl::base::MotionValidator {
  public:
   MotionValidator(const ::ompl::base::SpaceInformationPtr& si, std::shared_ptr<const Checker> checker)
       : ::ompl::base::MotionValidator(si), checker_(std::move(checker)) {}
 
   bool checkMotion(const ::ompl::base::State* s1, const ::ompl::base::State* s2) const override {
-    const std::size_t n = checker_->parameter_count();
-    const bool ok = checker_->check_motion(detail::values(s1, n), detail::values(s2, n), MotionOptions{true}).verdict ==
-                    Verdict::kSafe;
-    (ok ? valid_ : invalid_)++;
-    return ok;
+    return check(s1, s2).verdict == Verdict::kSafe;
   }
 
   bool checkMotion(const ::ompl::base::State* s1, const ::ompl::base::State* s2,
                    std::pair<::ompl::base::State*, double>& lastValid) const override {
-    if (checkMotion(s1, s2)) return true;
-    if (lastValid.first) si_->copyState(lastValid.first, s1);
-    lastValid.second = 0.0;
+    const MotionResult r = check(s1, s2);
+    if (r.verdict == Verdict::kSafe) return true;
+    lastValid.second = r.safe_until;
+    if (lastValid.first) {
+      if (r.safe_until > 0.0)
+        si_->getStateSpace()->interpolate(s1, s2, r.safe_until, lastValid.first);
+      else
+        si_->copyState(lastValid.first, s1);
+    }
     return false;
   }
 
  private:
+  MotionResult check(const ::ompl::base::State* s1, const ::ompl::base::State* s2) const {
+    const std::size_t n = checker_->parameter_count();
+    MotionResult r = checker_->check_motion(detail::values(s1, n), detail::values(s2, n), MotionOptions{true});
+    (r.verdict == Verdict::kSafe ? valid_ : invalid_)++;
+    return r;
+  }
+
   std::shared_ptr<const Checker> checker_;
 };
 

@@ -130,6 +130,10 @@ struct MotionResult {
   int part_a_index = -1, part_b_index = -1;
   bool certified = true;  // false: the step budget ran out (verdict kClearance, no witness)
   std::size_t steps = 0;  // exact configuration checks between the ends
+  // The motion is certified safe from state 0 up to this fraction of it (1
+  // when the verdict is safe; 0 when state 0 is not safe or nothing beyond
+  // it was proven): what OMPL's checkMotion(s1, s2, lastValid) reports.
+  double safe_until = 0.0;
 };
 
 // Where a world object stands: translation `xyz` (length_unit), then

@@ -1,0 +1,246 @@
+// SPDX-License-Identifier: MIT
+// The per-pair motion check (SegmentChecker::check, check_motion) against
+// the previous algorithm kept as its slow reference (check_reference,
+// check_motion_reference: one bound for all pairs, a whole configuration
+// checked at every bisection midpoint), segment by segment, full and
+// verdict-only: the same verdict (safe, clearance, collision), a lower bound
+// no larger than any distance the reference sampled, a certificate above the
+// margin on every safe segment, and a witness that an exact check at its
+// configuration confirms. Segments: random ones of a slewing bar past posts
+// (up to three turns, whole turns, the long way round), contacts grazed at
+// 1e-9 m either side of touching and of the margin, and random motions of the
+// default arm and of the URDF example's arm (one chain of links: the pair
+// bound that leaves out their shared joints).
+#include "src/checks/continuous.h"
+#include "src/scene/plan.h"
+#include "src/scene/scene_loader.h"
+#include "src/checks/verify.h"
+#include "support/fixtures.h"
+#include "support/sanitized.h"
+#include "tests/verify/bar_scene.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <sstream>
+
+namespace plancheck {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::TempDir;
+using testing::write_text;
+
+constexpr double kMargin = 0.05;
+
+int kind(const SegmentResult& g) { return g.collision ? 2 : (g.clearance ? 1 : 0); }
+
+struct Tally {
+  int segments = 0, flagged = 0, collisions = 0, partly_certified = 0;
+};
+
+// One segment both ways, both modes. band: the segment's minimum may lie
+// within the tolerance of the margin (or of touching), where either verdict
+// is allowed: then only the guarantees are checked, not equality.
+void compare(const Checker& checker, const SegmentChecker& seg, double margin, const std::vector<double>& qa,
+             const std::vector<double>& qb, Tally& tally, bool band = false) {
+  const ContinuousOptions o = seg.options();
+  StateResult sa, sb;
+  checker.check_state(qa, sa, row_request());
+  checker.check_state(qb, sb, row_request());
+  const SegmentResult fast = seg.check(qa, qb, sa, sb);
+  const SegmentResult ref = seg.check_reference(qa, qb, sa, sb);
+  StateResult va, vb;
+  double until = -1.0;
+  const SegmentResult fast_vo = seg.check_motion(qa, qb, true, va, vb, &until);
+  const SegmentResult ref_vo = seg.check_motion_reference(qa, qb, true, va, vb);
+  ASSERT_FALSE(fast.unresolved);
+  ASSERT_FALSE(ref.unresolved);
+  if (!band) {
+    EXPECT_EQ(kind(fast), kind(ref)) << "fast lower " << fast.lower_bound << ", reference sampled " << ref.min_sampled;
+  }
+  EXPECT_EQ(kind(ref_vo), kind(ref));
+  // Verdict-only takes the same steps: the same verdict, witness and pair.
+  EXPECT_EQ(kind(fast_vo), kind(fast));
+  EXPECT_EQ(fast_vo.witness_t, fast.witness_t);
+  EXPECT_EQ(fast_vo.lower_bound, fast.lower_bound);
+  if (kind(fast) != 0) {
+    EXPECT_EQ(fast_vo.part_a, fast.part_a);
+    EXPECT_EQ(fast_vo.part_b, fast.part_b);
+  }
+  // Never above what the reference saw at any configuration.
+  EXPECT_LE(fast.lower_bound, ref.min_sampled);
+  EXPECT_LE(fast_vo.lower_bound, ref.min_sampled);
+  if (kind(fast) == 0) {
+    EXPECT_GE(fast.lower_bound, margin);
+    EXPECT_GE(fast.min_sampled, fast.lower_bound);
+  } else if (fast.witness_t >= 0.0) {
+    // The witness is real: an exact check at its configuration.
+    std::vector<double> q;
+    state_between(qa, qb, fast.witness_t, q);
+    const std::vector<double>& at = fast.witness_t == 0.0 ? qa : (fast.witness_t == 1.0 ? qb : q);
+    StateResult w;
+    checker.check_state(at, w, row_request());
+    const double d = w.collision ? 0.0 : w.min_distance;
+    if (fast.collision) {
+      EXPECT_LT(d, o.contact_tolerance) << "at t = " << fast.witness_t;
+    } else {
+      EXPECT_LT(d, margin + o.tolerance) << "at t = " << fast.witness_t;
+    }
+  }
+  // Certified up to certified_until: no configuration before it is below
+  // the margin (sampled at 17 points), and none beyond 1.
+  EXPECT_GE(until, 0.0);
+  EXPECT_LE(until, 1.0);
+  if (kind(fast) == 0) {
+    EXPECT_EQ(until, 1.0);
+  } else if (until > 0.0) {
+    ++tally.partly_certified;
+    std::vector<double> q;
+    StateResult r;
+    for (int j = 0; j <= 16; ++j) {
+      state_between(qa, qb, until * j / 16.0, q);
+      checker.check_state(q, r, row_request());
+      EXPECT_FALSE(r.collision) << "certified until " << until;
+      EXPECT_GE(r.min_distance, margin) << "certified until " << until;
+    }
+  }
+  ++tally.segments;
+  tally.flagged += kind(fast) != 0;
+  tally.collisions += fast.collision;
+}
+
+// The slewing bar past posts (bar_scene.h).
+struct BarScene {
+  TempDir dir{"continuous-reference"};
+  Scene scene;
+  std::unique_ptr<Checker> checker;
+  std::unique_ptr<SegmentChecker> seg;
+  explicit BarScene(const std::vector<std::pair<Vec3, Vec3>>& posts) {
+    testing::write_bar_scene(dir, posts);
+    scene = load_scene(dir / "scene.json");
+    checker = std::make_unique<Checker>(scene, 1);
+    seg = std::make_unique<SegmentChecker>(*checker, scene, ContinuousOptions{});
+  }
+  // Slew (deg), Boom (m), Grow.x, as the state vector Slew, Boom, Grow.x/y/z.
+  static std::vector<double> state(double slew, double boom, double grow) { return {slew, boom, grow, 1, 1}; }
+};
+
+TEST(ContinuousReference, RandomBarSegmentsWholeTurnsAndTheLongWayRound) {
+  BarScene s({{{-0.1, 1.2, 0}, {0.1, 1.4, 2}}, {{1.9, -0.3, 0.5}, {2.1, 0.3, 0.92}}, {{-2.6, -0.1, 0.98}, {-2.4, 0.1, 1.2}}});
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  auto pick = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
+  Tally t;
+  const int n = testing::kSanitized ? 30 : 200;
+  for (int i = 0; i < n; ++i) {
+    SCOPED_TRACE("random segment " + std::to_string(i));
+    const double slew = pick(-1080, 1080);
+    const double step = unit(rng) < 0.3 ? pick(-1080, 1080) : pick(-90, 90);
+    compare(*s.checker, *s.seg, kMargin, BarScene::state(slew, pick(-0.6, 0.7), pick(0.5, 1.4)),
+            BarScene::state(slew + step, pick(-0.6, 0.7), pick(0.5, 1.4)), t);
+  }
+  // Whole turns and the long way round past the post at azimuth 90.
+  for (const auto& [from, to] : {std::pair{0.0, 720.0}, std::pair{720.0, 0.0}, std::pair{-30.0, 330.0},
+                                 std::pair{120.0, 420.0}, std::pair{130.0, 410.0}, std::pair{1e4 + 60, 1e4 + 120}}) {
+    SCOPED_TRACE("slew " + std::to_string(from) + " -> " + std::to_string(to));
+    compare(*s.checker, *s.seg, kMargin, BarScene::state(from, -0.4, 1), BarScene::state(to, -0.4, 1), t);
+  }
+  EXPECT_GT(t.flagged, t.segments / 10);  // real work on both sides
+  EXPECT_LT(t.flagged, t.segments);
+  EXPECT_GT(t.collisions, 0);
+  EXPECT_GT(t.partly_certified, 0);  // the certificate reaches into flagged segments
+}
+
+// Post face at y = face, the bar's far corners sweep radius rho: on a slew
+// through 90 degrees the minimum is face - rho (corner to face).
+TEST(ContinuousReference, GrazingAt1e9EitherSideOfTouchingAndOfTheMargin) {
+  const double rho = std::hypot(2.0, static_cast<double>(0.05f));
+  const double tol = ContinuousOptions{}.tolerance;
+  struct Case {
+    double gap;
+    int kind;  // expected: 0 safe, 1 clearance, 2 collision; -1 either (within a tolerance band)
+  };
+  for (const Case c : {Case{-1e-9, 2}, Case{1e-9, -1}, Case{kMargin - 1e-9, -1}, Case{kMargin - 2e-5, 1},
+                       Case{kMargin + 1e-9, -1}, Case{kMargin + 3 * tol, 0}, Case{0.5 * kMargin, 1}}) {
+    SCOPED_TRACE("gap " + std::to_string(c.gap));
+    const double face = static_cast<double>(static_cast<float>(rho + c.gap));
+    BarScene s({{{-0.1, face, 0}, {0.1, face + 0.2, 2}}});
+    Tally t;
+    // (89 -> 91 passes the corners' closest points by: its minimum is the
+    // end face's, 0.000625 m farther.)
+    for (const auto& [from, to] : {std::pair{60.0, 120.0}, std::pair{0.0, 180.0}, std::pair{89.0, 91.0}}) {
+      const auto qa = BarScene::state(from, 0, 1), qb = BarScene::state(to, 0, 1);
+      compare(*s.checker, *s.seg, kMargin, qa, qb, t, c.kind < 0);
+      if (c.kind >= 0 && from != 89.0) {
+        StateResult sa, sb;
+        EXPECT_EQ(kind(s.seg->check_motion(qa, qb, true, sa, sb)), c.kind);
+      }
+    }
+  }
+}
+
+// Scenes of the default dataset without its scoop block (nothing digs) and
+// the URDF example's arm on the same lander.
+fs::path arm_scene(const TempDir& dir, bool urdf) {
+  const fs::path data = fs::path(PLANCHECK_SOURCE_DIR) / "datasets" / "change5";
+  nlohmann::ordered_json scene = nlohmann::ordered_json::parse(testing::read_text(data / "scene.json"));
+  scene.erase("scoop");
+  scene["model"] = (data / scene["model"].get<std::string>()).string();
+  if (scene.contains("terrain") && scene["terrain"].contains("dem"))
+    scene["terrain"]["dem"] = (data / scene["terrain"]["dem"].get<std::string>()).string();
+  if (!urdf) {
+    write_text(dir / "arm.json", scene.dump(2));
+    return dir / "arm.json";
+  }
+  const fs::path example = fs::path(PLANCHECK_SOURCE_DIR) / "datasets" / "urdf-example";
+  nlohmann::json u = nlohmann::json::parse(testing::read_text(example / "scene.json"));
+  u["model"] = scene["model"];
+  u["robot"]["urdf"] = (example / u["robot"]["urdf"].get<std::string>()).string();
+  u["robot"]["srdf"] = (example / u["robot"]["srdf"].get<std::string>()).string();
+  write_text(dir / "urdf.json", u.dump(2));
+  return dir / "urdf.json";
+}
+
+void random_arm_segments(bool urdf, int count, double max_step) {
+  TempDir dir("continuous-reference");
+  const Scene scene = load_scene(arm_scene(dir, urdf));
+  const Checker checker(scene, 1);
+  const SegmentChecker seg(checker, scene, ContinuousOptions{});
+  std::vector<double> lo(scene.parameter_names.size()), hi(lo.size());
+  for (const Action& a : scene.actions)
+    for (int k = 0; k < a.parameter_count; ++k) {
+      lo[static_cast<std::size_t>(a.first_parameter + k)] = a.has_limits ? a.lower : -180;
+      hi[static_cast<std::size_t>(a.first_parameter + k)] = a.has_limits ? a.upper : 180;
+    }
+  std::mt19937_64 rng(urdf ? 7 : 3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Tally t;
+  for (int i = 0; i < count; ++i) {
+    SCOPED_TRACE((urdf ? "URDF arm segment " : "default arm segment ") + std::to_string(i));
+    std::vector<double> qa(lo.size()), qb(lo.size());
+    for (std::size_t j = 0; j < lo.size(); ++j) {
+      qa[j] = lo[j] + (hi[j] - lo[j]) * unit(rng);
+      qb[j] = std::clamp(qa[j] + max_step * (hi[j] - lo[j]) * (2 * unit(rng) - 1), lo[j], hi[j]);
+    }
+    compare(checker, seg, scene.safety_margin, qa, qb, t);
+  }
+  std::printf("[ %s ] %d segments, %d flagged, %d collisions\n", urdf ? "URDF arm" : "default arm", t.segments,
+              t.flagged, t.collisions);
+  EXPECT_GT(t.flagged, 0);
+  EXPECT_LT(t.flagged, t.segments);
+}
+
+TEST(ContinuousReference, RandomMotionsOfTheDefaultArm) {
+  random_arm_segments(false, testing::kSanitized ? 4 : 30, 0.15);
+}
+
+TEST(ContinuousReference, RandomMotionsOfTheUrdfArmAlongOneChain) {
+  random_arm_segments(true, testing::kSanitized ? 10 : 80, 0.2);
+}
+
+}  // namespace
+}  // namespace plancheck
