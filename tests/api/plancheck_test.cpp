@@ -883,7 +883,7 @@ TEST(ApiDataset, ObjectsInJsonEqualObjectsAddedAtRunTime) {
   std::size_t object_pairs = 0;
   for (std::size_t i = 0; i < states.size(); ++i) {
     expect_same(ra[i], rb[i], "state " + std::to_string(i));
-    for (const std::string& n : {"Rock1", "Ball", "Bag"}) object_pairs += ra[i].part_a == n || ra[i].part_b == n;
+    for (const char* n : {"Rock1", "Ball", "Bag"}) object_pairs += ra[i].part_a == n || ra[i].part_b == n;
   }
   EXPECT_GT(object_pairs, 0u);  // some state's closest pair is an object's
 }
