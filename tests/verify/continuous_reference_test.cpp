@@ -239,7 +239,7 @@ TEST(ContinuousReference, RandomMotionsOfTheDefaultArm) {
 }
 
 TEST(ContinuousReference, RandomMotionsOfTheUrdfArmAlongOneChain) {
-  random_arm_segments(true, testing::kSanitized ? 10 : 80, 0.2);
+  random_arm_segments(true, testing::kSanitized ? 20 : 80, 0.2);  // 20: the first that hold a safe segment (18 flagged)
 }
 
 }  // namespace
