@@ -15,7 +15,7 @@ FUZZ_BUILD ?= build-fuzz
 FUZZ_SECONDS ?= 60
 # fuzz_model forks an importer child per input (src/scene/isolate.h), about 60
 # inputs a second under ASan against thousands for the others: it gets longer.
-FUZZ_MODEL_SECONDS ?= 180
+FUZZ_MODEL_SECONDS ?= 120
 # fuzz_urdf also forks an importer per mesh it resolves: a modest budget.
 FUZZ_URDF_SECONDS ?= 45
 FUZZ_TARGETS ?= scene plan model dem verify urdf partial

@@ -185,7 +185,7 @@ TEST(CollisionModel, FarFromOriginMatchesBruteForce) {
   // poses put them 1.7374e6 m away.
   run_poses(testing::make_torus(Vec3::Zero(), 1.0, 0.3, 20, 10),
             testing::make_sphere(Vec3::Zero(), 0.8, 12, 20), Vec3(1.7374e6, -2.5e5, 3.1e5), 1.8,
-            5, 3);
+            testing::case_count(5, 2), 3);
 }
 
 TEST(CollisionModel, IdentityPosesFindExactTouching) {
@@ -225,7 +225,7 @@ TEST(CollisionModel, NearTouchingRigidPosesMatchBruteForce) {
   const CollisionModel a(ma), b(mb);
   std::mt19937_64 rng(41);
   Stats stats;
-  for (int i = 0; i < 12; ++i) {
+  for (int i = 0; i < testing::case_count(12, 5); ++i) {
     const Affine ta = random_rigid(rng, Vec3(0.3, -0.2, 0.1), 0.0);
     Affine tb = random_rigid(rng, Vec3(0.3, -0.2, 0.1), 2.0);
     const auto va = posed_vertices(ma, ta), vb = posed_vertices(mb, tb);
