@@ -77,10 +77,10 @@ test-asan: dataset
 # ThreadSanitizer (gcc) on the tests that exercise threads: by convention
 # their names say so (TSAN_TESTS; tests/CMakeLists.txt). parallel_for runs on
 # std::thread there (src/base/parallel.cpp says why); tests/tsan.supp lists what
-# is suppressed. Only the executables holding such tests are built.
+# is suppressed. Only the files holding such tests are built, as one suite
+# (plancheck_tsan_tests, tests/CMakeLists.txt), plus the API suite.
 TSAN_TESTS ?= Thread|Concurren|^Parallel\.
-TSAN_TARGETS ?= plancheck plancheck_api_tests plancheck_foundation_tests plancheck_geometry_tests plancheck_terrain_tests plancheck_verify_tests \
-                plancheck_output_tests
+TSAN_TARGETS ?= plancheck plancheck_api_tests plancheck_tsan_tests
 test-tsan: dataset
 	cmake -S . -B $(TSAN_BUILD) $(SAN_CMAKE) -DPLANCHECK_TSAN=ON
 	cmake --build $(TSAN_BUILD) -j $(JOBS) --target $(TSAN_TARGETS)
