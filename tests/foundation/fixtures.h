@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
-// Small fixtures for the foundation tests: a temporary folder, file writing,
-// a glTF writer for node trees of boxes (glTF keeps a hierarchy and node
-// translations, which OBJ cannot), and an InputError matcher.
+// Small fixtures for the foundation tests (the temporary folder is
+// tests/support's TempDir): a glTF writer for node trees of boxes (glTF
+// keeps a hierarchy and node translations, which OBJ cannot), and an
+// InputError matcher.
 #pragma once
 
 #include "src/base/error.h"
 #include "src/scene/scene.h"
+#include "tests/support/fixtures.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -25,35 +27,6 @@
 namespace plancheck::testing {
 
 inline const std::filesystem::path kAssimpModels = "/usr/share/assimp/models";
-
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("plancheck-foundation-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  const std::filesystem::path& path() const { return path_; }
-  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
-
-  std::filesystem::path write(const std::string& name, const std::string& text) const {
-    std::filesystem::path p = path_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-
- private:
-  std::filesystem::path path_;
-};
 
 // One node of a generated glTF model: an optional axis-aligned box mesh.
 struct BoxNode {
