@@ -269,6 +269,7 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const
     const Box w = posed_box(b, Affine::Identity());
     static_boxes_.emplace_back(w.lo, w.hi);
   }
+  set_gap_rows();
   // The parts of the verdict-only guard (check_pairs) that never move, with
   // the terrain, folded into one magnitude here, and every part's own-frame
   // magnitude: a state computes only its moving parts' world boxes' (a
@@ -286,6 +287,33 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const
   if (scene.scoop && scene.terrain) digger_ = std::make_shared<const Digger>(scene);
 }
 
+void Checker::set_gap_rows() {
+  gap_rows_.clear();
+  other_gap_pairs_.clear();
+  std::vector<int> group(names_.size(), -1);  // moving part -> its entry in gap_rows_
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    const PairRef& p = pairs_[k];
+    const bool grouped = !p.empty && chain_of_[static_cast<std::size_t>(p.a)] >= 0 && p.b != terrain_index_ &&
+                         chain_of_[static_cast<std::size_t>(p.b)] < 0;
+    if (!grouped) {
+      other_gap_pairs_.push_back(static_cast<std::uint32_t>(k));
+      continue;
+    }
+    int& g = group[static_cast<std::size_t>(p.a)];
+    if (g < 0) {
+      g = static_cast<int>(gap_rows_.size());
+      gap_rows_.push_back(GapRows{p.a, {}, {}});
+    }
+    GapRows& rows = gap_rows_[static_cast<std::size_t>(g)];
+    rows.pairs.push_back(static_cast<std::uint32_t>(k));
+    const auto& [lo, hi] = static_boxes_[static_cast<std::size_t>(p.b)];
+    for (int i = 0; i < 3; ++i) {
+      rows.rows[static_cast<std::size_t>(i)].push_back(lo[i]);
+      rows.rows[static_cast<std::size_t>(3 + i)].push_back(hi[i]);
+    }
+  }
+}
+
 std::unique_ptr<const Checker> Checker::with_placement(int part, const Affine& placement) const {
   const std::size_t p = static_cast<std::size_t>(part);
   if (part < 0 || p >= scene_.parts.size() || chain_of_[p] >= 0 ||
@@ -295,6 +323,7 @@ std::unique_ptr<const Checker> Checker::with_placement(int part, const Affine& p
   c->placement_[p] = placement;
   const Box w = posed_box({local_boxes_[p].first, local_boxes_[p].second}, placement);
   c->static_boxes_[p] = {w.lo, w.hi};
+  c->set_gap_rows();
   // The guard's static magnitude again, as the constructor folds it.
   auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
   c->static_magnitude_ = terrain_magnitude_;
@@ -645,11 +674,42 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   gap2.resize(pair_count);
   touching.resize(pair_count);
   std::size_t touching_count = 0;
+  // A moving part against its static partners: the rows of their boxes,
+  // two pairs at a time, with box_gap2's operations in its order.
+  for (const GapRows& g : gap_rows_) {
+    const Box& m = box[static_cast<std::size_t>(g.part)];
+    const std::size_t count = g.pairs.size();
+    const double* lo[3] = {g.rows[0].data(), g.rows[1].data(), g.rows[2].data()};
+    const double* hi[3] = {g.rows[3].data(), g.rows[4].data(), g.rows[5].data()};
+    std::size_t j = 0;
+#if defined(__SSE2__)
+    for (; j + 2 <= count; j += 2) {
+      __m128d sq[3];
+      for (int i = 0; i < 3; ++i) {
+        const __m128d u = _mm_sub_pd(_mm_set1_pd(m.lo[i]), _mm_loadu_pd(hi[i] + j));
+        const __m128d v = _mm_sub_pd(_mm_loadu_pd(lo[i] + j), _mm_set1_pd(m.hi[i]));
+        const __m128d d = _mm_max_pd(_mm_setzero_pd(), _mm_max_pd(v, u));
+        sq[i] = _mm_mul_pd(d, d);
+      }
+      const __m128d s = _mm_add_pd(_mm_add_pd(sq[0], sq[1]), sq[2]);
+      gap2[g.pairs[j]] = _mm_cvtsd_f64(s);
+      gap2[g.pairs[j + 1]] = _mm_cvtsd_f64(_mm_unpackhi_pd(s, s));
+    }
+#endif
+    for (; j < count; ++j) {
+      double sq[3];
+      for (int i = 0; i < 3; ++i) {
+        const double d = max0(std::max(m.lo[i] - hi[i][j], lo[i][j] - m.hi[i]));
+        sq[i] = d * d;
+      }
+      gap2[g.pairs[j]] = (sq[0] + sq[1]) + sq[2];
+    }
+  }
+  for (std::uint32_t k : other_gap_pairs_)
+    gap2[k] = box_gap2(box[static_cast<std::size_t>(pairs_[k].a)], box[static_cast<std::size_t>(pairs_[k].b)]);
   for (std::size_t k = 0; k < pair_count; ++k) {
-    const double g2 = box_gap2(box[static_cast<std::size_t>(pairs_[k].a)], box[static_cast<std::size_t>(pairs_[k].b)]);
-    gap2[k] = g2;
     touching[touching_count] = static_cast<std::uint32_t>(k);
-    touching_count += !(g2 > 0.0);
+    touching_count += !(gap2[k] > 0.0);
   }
   const bool with_distance = request.distance;
   const std::size_t visits = with_distance ? pair_count : touching_count;
