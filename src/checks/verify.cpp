@@ -20,6 +20,10 @@
 #include <latch>
 #include <numeric>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace plancheck {
 
 namespace {
@@ -63,16 +67,42 @@ Box posed_box(const Box& local, const Affine& t) {
   return {wc - wh - Vec3::Constant(pad), wc + wh + Vec3::Constant(pad)};
 }
 
+// std::max(x, 0.0), without a branch: (x < 0) ? 0 : x, so NaN and -0.0
+// stay as they are. GCC compiles std::max(x, 0.0) to a compare and a jump,
+// which mispredicts on box gaps (some axes apart, some overlapping): on the
+// default plans' collision-only check that was most of a state's time.
+// maxsd(a, b) is (a > b) ? a : b, the same value bit for bit.
+inline double max0(double x) {
+#if defined(__SSE2__)
+  return _mm_cvtsd_f64(_mm_max_sd(_mm_setzero_pd(), _mm_set_sd(x)));
+#else
+  return std::max(x, 0.0);
+#endif
+}
+
 // Squared distance between two boxes; 0 when they meet. A state computes
 // one per checked pair (over a hundred on the default scene), so this stays
-// a few scalar operations the compiler can inline.
+// a few scalar operations the compiler can inline, without branches.
 inline double box_gap2(const Box& a, const Box& b) {
+#if defined(__SSE2__)
+  // x and y in the two lanes of one register, z alone: the same
+  // operations per axis (std::max(u, v) is maxpd(v, u)), summed in the same
+  // order (0 + x^2 is x^2: a square is +0, positive or NaN).
+  const __m128d u = _mm_sub_pd(_mm_loadu_pd(a.lo.data()), _mm_loadu_pd(b.hi.data()));
+  const __m128d v = _mm_sub_pd(_mm_loadu_pd(b.lo.data()), _mm_loadu_pd(a.hi.data()));
+  const __m128d g = _mm_max_pd(_mm_setzero_pd(), _mm_max_pd(v, u));
+  const __m128d sq = _mm_mul_pd(g, g);
+  const double xy = _mm_cvtsd_f64(_mm_add_sd(sq, _mm_unpackhi_pd(sq, sq)));
+  const double gz = max0(std::max(a.lo[2] - b.hi[2], b.lo[2] - a.hi[2]));
+  return xy + gz * gz;
+#else
   double s = 0.0;
   for (int i = 0; i < 3; ++i) {
-    const double g = std::max(std::max(a.lo[i] - b.hi[i], b.lo[i] - a.hi[i]), 0.0);
+    const double g = max0(std::max(a.lo[i] - b.hi[i], b.lo[i] - a.hi[i]));
     s += g * g;
   }
   return s;
+#endif
 }
 
 // Whether a distance search at transforms (ta, tb) with request q has
@@ -239,6 +269,7 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const
     const Box w = posed_box(b, Affine::Identity());
     static_boxes_.emplace_back(w.lo, w.hi);
   }
+  set_gap_rows();
   // The parts of the verdict-only guard (check_pairs) that never move, with
   // the terrain, folded into one magnitude here, and every part's own-frame
   // magnitude: a state computes only its moving parts' world boxes' (a
@@ -256,6 +287,33 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const
   if (scene.scoop && scene.terrain) digger_ = std::make_shared<const Digger>(scene);
 }
 
+void Checker::set_gap_rows() {
+  gap_rows_.clear();
+  other_gap_pairs_.clear();
+  std::vector<int> group(names_.size(), -1);  // moving part -> its entry in gap_rows_
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    const PairRef& p = pairs_[k];
+    const bool grouped = !p.empty && chain_of_[static_cast<std::size_t>(p.a)] >= 0 && p.b != terrain_index_ &&
+                         chain_of_[static_cast<std::size_t>(p.b)] < 0;
+    if (!grouped) {
+      other_gap_pairs_.push_back(static_cast<std::uint32_t>(k));
+      continue;
+    }
+    int& g = group[static_cast<std::size_t>(p.a)];
+    if (g < 0) {
+      g = static_cast<int>(gap_rows_.size());
+      gap_rows_.push_back(GapRows{p.a, {}, {}});
+    }
+    GapRows& rows = gap_rows_[static_cast<std::size_t>(g)];
+    rows.pairs.push_back(static_cast<std::uint32_t>(k));
+    const auto& [lo, hi] = static_boxes_[static_cast<std::size_t>(p.b)];
+    for (int i = 0; i < 3; ++i) {
+      rows.rows[static_cast<std::size_t>(i)].push_back(lo[i]);
+      rows.rows[static_cast<std::size_t>(3 + i)].push_back(hi[i]);
+    }
+  }
+}
+
 std::unique_ptr<const Checker> Checker::with_placement(int part, const Affine& placement) const {
   const std::size_t p = static_cast<std::size_t>(part);
   if (part < 0 || p >= scene_.parts.size() || chain_of_[p] >= 0 ||
@@ -265,6 +323,7 @@ std::unique_ptr<const Checker> Checker::with_placement(int part, const Affine& p
   c->placement_[p] = placement;
   const Box w = posed_box({local_boxes_[p].first, local_boxes_[p].second}, placement);
   c->static_boxes_[p] = {w.lo, w.hi};
+  c->set_gap_rows();
   // The guard's static magnitude again, as the constructor folds it.
   auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
   c->static_magnitude_ = terrain_magnitude_;
@@ -466,6 +525,8 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     std::vector<double> coarse;      // per pair: lower bound the coarse pass proved (m)
     std::vector<double> motion;      // per part: path length bound since seed->at (m)
     std::vector<double> separation;  // per pair: proven lower bound at this state (m)
+    std::vector<double> gap2;        // per pair: its boxes' gap, squared
+    std::vector<std::uint32_t> touching;  // pairs whose boxes meet
   };
   static thread_local Scratch scratch;
   std::vector<Affine>& chains = scratch.chains;
@@ -599,25 +660,79 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     if (request.distance && out.contacts.empty()) c.contact = &first_contact;
     return c;
   };
+  // Every pair's box gap (squared) first, in one pass without branches
+  // (the terrain's box in the terrain's slot, n), listing the pairs whose
+  // boxes meet. Without distances a pair whose boxes are apart does nothing
+  // below (its bound is never read), so only those pairs are visited: the
+  // collision-only check of the default plans spent most of a state in this
+  // loop's branches over 138 pairs, about ten of them touching.
+  box.resize(n + 1);
+  box[n] = terrain_box;
+  const std::size_t pair_count = pairs_.size();
+  std::vector<double>& gap2 = scratch.gap2;
+  std::vector<std::uint32_t>& touching = scratch.touching;
+  gap2.resize(pair_count);
+  touching.resize(pair_count);
+  std::size_t touching_count = 0;
+  // A moving part against its static partners: the rows of their boxes,
+  // two pairs at a time, with box_gap2's operations in its order.
+  for (const GapRows& g : gap_rows_) {
+    const Box& m = box[static_cast<std::size_t>(g.part)];
+    const std::size_t count = g.pairs.size();
+    const double* lo[3] = {g.rows[0].data(), g.rows[1].data(), g.rows[2].data()};
+    const double* hi[3] = {g.rows[3].data(), g.rows[4].data(), g.rows[5].data()};
+    std::size_t j = 0;
+#if defined(__SSE2__)
+    for (; j + 2 <= count; j += 2) {
+      __m128d sq[3];
+      for (int i = 0; i < 3; ++i) {
+        const __m128d u = _mm_sub_pd(_mm_set1_pd(m.lo[i]), _mm_loadu_pd(hi[i] + j));
+        const __m128d v = _mm_sub_pd(_mm_loadu_pd(lo[i] + j), _mm_set1_pd(m.hi[i]));
+        const __m128d d = _mm_max_pd(_mm_setzero_pd(), _mm_max_pd(v, u));
+        sq[i] = _mm_mul_pd(d, d);
+      }
+      const __m128d s = _mm_add_pd(_mm_add_pd(sq[0], sq[1]), sq[2]);
+      gap2[g.pairs[j]] = _mm_cvtsd_f64(s);
+      gap2[g.pairs[j + 1]] = _mm_cvtsd_f64(_mm_unpackhi_pd(s, s));
+    }
+#endif
+    for (; j < count; ++j) {
+      double sq[3];
+      for (int i = 0; i < 3; ++i) {
+        const double d = max0(std::max(m.lo[i] - hi[i][j], lo[i][j] - m.hi[i]));
+        sq[i] = d * d;
+      }
+      gap2[g.pairs[j]] = (sq[0] + sq[1]) + sq[2];
+    }
+  }
+  for (std::uint32_t k : other_gap_pairs_)
+    gap2[k] = box_gap2(box[static_cast<std::size_t>(pairs_[k].a)], box[static_cast<std::size_t>(pairs_[k].b)]);
+  for (std::size_t k = 0; k < pair_count; ++k) {
+    touching[touching_count] = static_cast<std::uint32_t>(k);
+    touching_count += !(gap2[k] > 0.0);
+  }
+  const bool with_distance = request.distance;
+  const std::size_t visits = with_distance ? pair_count : touching_count;
   bool contact_done = false;  // the first contact is in, the rest need only their bounds
-  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+  for (std::size_t v = 0; v < visits; ++v) {
+    const std::size_t k = with_distance ? v : touching[v];
     const auto [a, b, empty] = pairs_[k];
     const bool on_terrain = b == terrain_index_;
     // Pairs outside `which`, and a part whose triangles were all left out
     // (an empty, inverted box), take no part.
     if (empty || (on_terrain ? (which == kNonTerrainPairs || !terrain_live) : which == kTerrainPairs)) {
       lower[k] = std::numeric_limits<double>::infinity();
-      if (request.distance && !verdict_only) order.push_back(k);
+      if (with_distance && !verdict_only) order.push_back(k);
       continue;
     }
-    const double g2 = box_gap2(box[a], on_terrain ? terrain_box : box[b]);
+    const double g2 = gap2[k];
     if (lazy && g2 > far2) {
       skipped = std::min(skipped, g2);
       continue;
     }
     // The box gap as a lower bound: a distance when distances are asked
     // for, else only its sign matters (no square root).
-    const double gap = request.distance && g2 > 0.0 ? std::sqrt(g2) : g2;
+    const double gap = with_distance && g2 > 0.0 ? std::sqrt(g2) : g2;
     const double l = carry ? std::max(gap, carried[k]) : gap;
     lower[k] = l;
     if (contact_done) continue;  // bounds_after_contact: the bound only
@@ -643,7 +758,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
         continue;
       }
     }
-    if (request.distance) place(k, l, g2);
+    if (with_distance) place(k, l, g2);
   }
   out.collision = !out.contacts.empty();
   out.limit_action = first_limit_violation(scene_, params);

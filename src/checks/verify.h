@@ -405,6 +405,19 @@ class Checker {
   std::vector<int> chain_of_;           // chain id per checked part, -1 when static
   std::vector<std::pair<Vec3, Vec3>> local_boxes_;  // (lo, hi) per part, its own frame
   std::vector<std::pair<Vec3, Vec3>> static_boxes_;  // posed (identity) boxes of static parts, once
+  // The box-gap pass of check_pairs: per moving part, its checked pairs
+  // with static parts (not the terrain) and those parts' boxes as six rows
+  // (lo x, y, z, hi x, y, z), so a state computes their gaps from
+  // contiguous rows; the other pairs (both moving, the terrain's, empty
+  // ones) one by one. Set by set_gap_rows() from pairs_ and static_boxes_.
+  struct GapRows {
+    int part = -1;
+    std::vector<std::uint32_t> pairs;
+    std::array<std::vector<double>, 6> rows;
+  };
+  std::vector<GapRows> gap_rows_;
+  std::vector<std::uint32_t> other_gap_pairs_;
+  void set_gap_rows();
   std::vector<PairRef> pairs_;
   // Per checked part: model triangle index -> mesh triangle index, when
   // triangles were left out (empty: the identity).

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <random>
@@ -134,6 +135,69 @@ TEST(FclOracle, StatesBisectedToFirstContactAgree) {
   std::cout << "[ agreement ] " << found << " first contacts bisected: " << 2 * found << " states\n";
   EXPECT_GE(found, 50);
   EXPECT_EQ(collisions, found);
+}
+
+// The collision-only check (distance off, as the bench's collide row and
+// FCL's default request ask it) visits only the pairs whose boxes meet; the
+// full check visits every pair in order. Both must list the same contacts:
+// the same pairs in the same order, each with the same intersecting
+// triangle pairs, and the flag must be FCL's.
+TEST(FclOracle, CollisionOnlyListsTheFullChecksContacts) {
+  if (!std::filesystem::exists(kScene)) GTEST_FAIL() << "run `make dataset` first: " << kScene;
+  Fixture& f = fixture();
+  std::mt19937_64 rng(33002);
+  CheckRequest listed;  // the full listing, no distance
+  listed.distance = false;
+  CheckRequest first_each = listed;  // the bench's collide row: each pair's first triangle pair
+  first_each.max_triangle_pairs = 0;
+  CheckRequest first_only = first_each;  // the first contact only
+  first_only.all_contacts = false;
+  const int kStates = testing::case_count(600, 120);
+  int collisions = 0, several = 0;
+  for (int i = 0; i < kStates; ++i) {
+    const auto state = random_state(f.scene, rng);
+    const std::string what = "random state " + std::to_string(i);
+    StateResult full, a, b, c;
+    f.checker->check_state(state, full);
+    f.checker->check_state(state, a, listed);
+    f.checker->check_state(state, b, first_each);
+    f.checker->check_state(state, c, first_only);
+    ASSERT_EQ(a.collision, full.collision) << what;
+    ASSERT_EQ(b.collision, full.collision) << what;
+    ASSERT_EQ(c.collision, full.collision) << what;
+    ASSERT_EQ(a.contacts.size(), full.contacts.size()) << what;
+    ASSERT_EQ(b.contacts.size(), full.contacts.size()) << what;
+    for (std::size_t k = 0; k < full.contacts.size(); ++k) {
+      const PairContact& x = full.contacts[k];
+      EXPECT_EQ(a.contacts[k].part_a, x.part_a) << what;
+      EXPECT_EQ(a.contacts[k].part_b, x.part_b) << what;
+      EXPECT_EQ(a.contacts[k].triangles, x.triangles) << what;
+      EXPECT_EQ(b.contacts[k].part_a, x.part_a) << what;
+      EXPECT_EQ(b.contacts[k].part_b, x.part_b) << what;
+      ASSERT_EQ(b.contacts[k].triangles.size(), 1u) << what;
+      EXPECT_EQ(b.contacts[k].triangles[0], x.triangles.at(0)) << what;
+    }
+    if (full.collision) {
+      ++collisions;
+      if (full.contacts.size() > 1) ++several;
+      ASSERT_EQ(c.contacts.size(), 1u) << what;
+      EXPECT_EQ(c.contacts[0].part_a, full.contacts[0].part_a) << what;
+      EXPECT_EQ(c.contacts[0].part_b, full.contacts[0].part_b) << what;
+    }
+    // Distances off: none reported.
+    EXPECT_EQ(a.part_a, -1) << what;
+    EXPECT_FALSE(std::isfinite(a.min_distance) && !a.collision) << what;
+    if (i % testing::case_count(4, 20) == 0) {
+      const auto ref = f.fcl->check(state, false);
+      ASSERT_EQ(b.collision, ref.collision) << what;
+    }
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+  std::cout << "[ agreement ] " << kStates << " random states collision-only, " << collisions << " colliding, "
+            << several << " with several colliding pairs\n";
+  EXPECT_GT(collisions, kStates / 20);
+  EXPECT_LT(collisions, kStates - kStates / 20);
+  EXPECT_GT(several, 0);
 }
 
 // What a seed can change: which of pairs tied within kDistanceTieTolerance is
