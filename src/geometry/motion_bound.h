@@ -43,6 +43,12 @@ class MotionBound {
   // the shorter the motion (the verdict-only motion checks' sub-intervals).
   double pair_bound_posed(int a, int b, std::span<const double> qa, std::span<const double> qb) const;
 
+  // pair_bound of every pair at once (out[k] for pairs[k]), the same values:
+  // each part's bound from a given shared prefix is computed once (a part in
+  // many pairs, most of them with static parts, is bounded once).
+  void pair_bounds(const std::vector<std::pair<int, int>>& pairs, std::span<const double> qa,
+                   std::span<const double> qb, std::vector<double>& out) const;
+
  private:
   struct PartExtent {
     Vec3 centre = Vec3::Zero();  // bounding-sphere centre of the vertices (m)
