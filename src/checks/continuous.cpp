@@ -427,13 +427,10 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   // certified; a witness or the budget stops it at that span's ta.
   double reached = 0.0;
   bool first_pass = true;
-  auto motion_bound = [](const Item& it, double m) { return std::min({it.la, it.lb, 0.5 * (it.la + it.lb - m)}); };
-  auto item_bound = [&](const Item& it, double len) { return motion_bound(it, pd[it.k].rate * len); };
-  // A pair the segment's bound leaves uncertified on a sub-interval gets
-  // the bound posed at the sub-interval's ends too (MotionBound::
-  // pair_bound_posed: tighter the shorter the sub-interval), in both modes
-  // alike (the same steps).
-  std::vector<double> span_a, span_b, active_m;
+  auto item_bound = [&](const Item& it, double len) {
+    const double m = pd[it.k].rate * len;
+    return std::min({it.la, it.lb, 0.5 * (it.la + it.lb - m)});
+  };
   // One pass against `target` (as the reference's certify): the first
   // witness found, or nothing when every pair is certified on every piece
   // (or the budget ran out: gave_up); `lower` gets the least bound.
@@ -452,30 +449,13 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
       stack.pop_back();
       const double len = sp.tb - sp.ta;
       active.clear();
-      active_m.clear();
-      bool span_posed = false;
       for (std::size_t i = sp.begin; i < arena.size(); ++i) {
         const Item& it = arena[i];
-        double m = pd[it.k].rate * len;
-        double lb = motion_bound(it, m);
-        if (!(lb >= target + std::max(it.ga, it.gb))) {
-          if (!span_posed) {
-            state_between(qa, qb, sp.ta, span_a);
-            state_between(qa, qb, sp.tb, span_b);
-            if (sp.ta == 0.0) span_a = qa;
-            if (sp.tb == 1.0) span_b = qb;
-            span_posed = true;
-          }
-          const auto [a, b] = pairs_[it.k];
-          m = std::min(m, bound_.pair_bound_posed(a, b, span_a, span_b) * (1.0 + 1e-12));
-          lb = motion_bound(it, m);
-        }
-        if (lb >= target + std::max(it.ga, it.gb)) {
+        const double lb = item_bound(it, len);
+        if (lb >= target + std::max(it.ga, it.gb))
           lower = std::min(lower, lb);
-        } else {
+        else
           active.push_back(it);
-          active_m.push_back(m);
-        }
       }
       arena.resize(sp.begin);
       if (active.empty()) continue;
@@ -509,7 +489,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
         const Item& it = active[i];
         PairData& p = pd[it.k];
         const auto [a, b] = pairs_[it.k];
-        const double half = 0.5 * active_m[i];
+        const double half = 0.5 * p.rate * len;
         const double g = std::max(it.ga, it.gb);
         // Proven apart here by either end: no collision test needed.
         const double apart = std::max(it.la, it.lb) - half - g;

@@ -49,8 +49,6 @@ MotionBound::MotionBound(const Scene& scene) : scene_(scene) {
       }
     if (part.mesh.triangles.empty()) continue;
     e.centre = 0.5 * (lo + hi);
-    e.lo = lo;
-    e.hi = hi;
     const Action& inner = scene.actions[static_cast<std::size_t>(part.chain.back())];
     const Vec3 c = inner.type == ActionType::kScale ? inner.fixed_point : inner.pivot;
     for (const Tri& t : part.mesh.triangles)
@@ -93,11 +91,6 @@ void MotionBound::pair_bounds(const std::vector<std::pair<int, int>>& pairs, std
   }
 }
 
-double MotionBound::pair_bound_posed(int a, int b, std::span<const double> qa, std::span<const double> qb) const {
-  const std::size_t common = shared_actions(a, b);
-  return bound_from(a, common, qa, qb, true) + bound_from(b, common, qa, qb, true);
-}
-
 std::size_t MotionBound::shared_actions(int a, int b) const {
   auto chain = [&](int part) -> const std::vector<int>* {
     if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return nullptr;
@@ -116,7 +109,7 @@ std::size_t MotionBound::shared_actions(int a, int b) const {
 }
 
 double MotionBound::bound_from(int part, std::size_t first, std::span<const double> qa,
-                               std::span<const double> qb, bool posed) const {
+                               std::span<const double> qb) const {
   if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return 0.0;
   const Part& p = scene_.parts[static_cast<std::size_t>(part)];
   if (!p.moving()) return 0.0;
@@ -131,19 +124,6 @@ double MotionBound::bound_from(int part, std::size_t first, std::span<const doub
   const std::size_t k = p.chain.size();
   if (k > 64) return std::numeric_limits<double>::infinity();  // no scene nests that deep
   if (first >= k) return 0.0;  // every action shared with the other part
-  // posed: the corners of the part's box as the action being bounded sees
-  // them at qa and qb (the actions inside it applied), and how far the
-  // actions inside it move any point over the motion (the sum of their
-  // contributions: all rigid, no outer norms). Only while no action scales.
-  if (posed)
-    for (std::size_t n = first; n < k; ++n)
-      if (scene_.actions[static_cast<std::size_t>(p.chain[n])].type == ActionType::kScale) posed = false;
-  Vec3 corner[2][8];
-  if (posed)
-    for (int c = 0; c < 8; ++c)
-      corner[0][c] = corner[1][c] =
-          Vec3((c & 1) ? e.hi.x() : e.lo.x(), (c & 2) ? e.hi.y() : e.lo.y(), (c & 4) ? e.hi.z() : e.lo.z());
-  double inside = 0.0;
   for (std::size_t n = k; n-- > first;) {
     const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
     const std::size_t f = static_cast<std::size_t>(a.first_parameter);
@@ -154,16 +134,7 @@ double MotionBound::bound_from(int part, std::size_t first, std::span<const doub
     norms[n] = 1.0;
     switch (a.type) {
       case ActionType::kRotate: {
-        double arm = innermost ? e.inner_arm : line_distance(z, a.pivot, a.axis) + rho;
-        if (posed && !innermost) {
-          // A point seen here at any parameter lies within `inside` of where
-          // it is seen at either end, and there inside the box's posed
-          // corners (the distance to the axis is convex: greatest at one).
-          double end_arm[2] = {0.0, 0.0};
-          for (int e2 = 0; e2 < 2; ++e2)
-            for (const Vec3& c : corner[e2]) end_arm[e2] = std::max(end_arm[e2], line_distance(c, a.pivot, a.axis));
-          arm = std::min(arm, std::min(end_arm[0], end_arm[1]) + inside);
-        }
+        const double arm = innermost ? e.inner_arm : line_distance(z, a.pivot, a.axis) + rho;
         // The angle turned is the written difference, converted: 0 -> 720 deg
         // is two turns, never none (whole turns are removed only for the pose).
         contribution[n] = std::abs(vb - va) * a.unit_to_si * arm;
@@ -200,12 +171,6 @@ double MotionBound::bound_from(int part, std::size_t first, std::span<const doub
         rho = smax * r;
         break;
       }
-    }
-    if (posed) {
-      inside += contribution[n];
-      const Affine ta = action_transform_at(scene_, a, qa), tb = action_transform_at(scene_, a, qb);
-      for (Vec3& c : corner[0]) c = ta * c;
-      for (Vec3& c : corner[1]) c = tb * c;
     }
   }
   // Outer linear norms: L_{<i} = product of norms of the actions above i.

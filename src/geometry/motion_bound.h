@@ -33,16 +33,6 @@ class MotionBound {
   // them only). Indices past the parts are static, as in part_bound.
   double pair_bound(int a, int b, std::span<const double> qa, std::span<const double> qb) const;
 
-  // The same bound, tightened by the poses at qa and qb: a rotation that
-  // moves other actions of the chain (not the innermost) turns the part's
-  // points at most min over the two ends of (the farthest corner of the
-  // part's box from its axis there, plus how far the actions inside it move
-  // any point over the motion) from the axis, where pair_bound takes the
-  // sphere that holds those points over the whole parameter box. Chains
-  // with a scale keep pair_bound's. Costs two poses of each chain; tighter
-  // the shorter the motion (the verdict-only motion checks' sub-intervals).
-  double pair_bound_posed(int a, int b, std::span<const double> qa, std::span<const double> qb) const;
-
   // pair_bound of every pair at once (out[k] for pairs[k]), the same values:
   // each part's bound from a given shared prefix is computed once (a part in
   // many pairs, most of them with static parts, is bounded once).
@@ -56,13 +46,10 @@ class MotionBound {
     // About the innermost action of the chain (its pivot or fixed point):
     double inner_radius = 0.0;   // max |x - c| (m)
     double inner_arm = 0.0;      // rotate: max distance of a vertex from its axis (m)
-    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // the vertices' box, the part's own frame
   };
   // part_bound over the chain's actions from index `first` inward (the
   // motion in the frame the first `first` actions map into the world).
-  // posed: pair_bound_posed's tightening.
-  double bound_from(int part, std::size_t first, std::span<const double> qa, std::span<const double> qb,
-                    bool posed = false) const;
+  double bound_from(int part, std::size_t first, std::span<const double> qa, std::span<const double> qb) const;
   // The common prefix of a's and b's chains that moves both alike.
   std::size_t shared_actions(int a, int b) const;
 
