@@ -140,11 +140,15 @@ double SegmentChecker::first_limit() const {
 }
 
 double SegmentChecker::end_limit(const std::vector<double>& qa, const std::vector<double>& qb) const {
+  thread_local std::vector<double> bounds;
+  bound_.pair_bounds(pairs_, qa, qb, bounds);
+  return end_limit(bounds);
+}
+
+double SegmentChecker::end_limit(const std::vector<double>& bounds) const {
   double m = 0.0;
-  for (const auto& [a, b] : pairs_) {
-    const double s = bound_.pair_bound(a, b, qa, qb);
+  for (const double s : bounds)
     if (!(s <= m)) m = s;  // NaN or infinity propagates
-  }
   // At most the margin (the tolerance without one) beyond the first limit:
   // an end state's exact distances far beyond the margin cost dearly (at a
   // metre, a search explores thousands of terrain triangles) and certify
@@ -336,7 +340,9 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   double until = 0.0;
   out.checked = true;
   const std::size_t np = pairs_.size();
-  const double e_limit = end_limit(qa, qb);
+  std::vector<double> bounds;
+  bound_.pair_bounds(pairs_, qa, qb, bounds);
+  const double e_limit = end_limit(bounds);
   // Per pair: how much its distance can change per unit of t (padded for
   // the product with a sub-interval's length), its ends' box gaps and
   // guards, and its closest triangles found so far.
@@ -366,8 +372,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     pd[k].gap_b = answer.distance;
     pd[k].guard_b = answer.guard;
     pd[k].live = pd[k].live || answer.distance != std::numeric_limits<double>::infinity();
-    const auto [a, b] = pairs_[k];
-    pd[k].rate = bound_.pair_bound(a, b, qa, qb) * (1.0 + 1e-12);
+    pd[k].rate = bounds[k] * (1.0 + 1e-12);
   }
   std::vector<double> q;
   auto point = [&](double t) -> const std::vector<double>& {

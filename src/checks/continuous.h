@@ -116,6 +116,8 @@ class SegmentChecker {
   // modes take the same steps. First limit plus half the largest pair motion:
   // two ends that far clear certify the whole segment at once.
   double end_limit(const std::vector<double>& qa, const std::vector<double>& qb) const;
+  // The same from the pairs' bounds (MotionBound::pair_bounds).
+  double end_limit(const std::vector<double>& bounds) const;
   // The distance a violation witness lies below: the first pass's.
   double first_limit() const;
 

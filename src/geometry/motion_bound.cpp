@@ -67,6 +67,31 @@ double MotionBound::part_bound(int part, std::span<const double> qa, std::span<c
 }
 
 double MotionBound::pair_bound(int a, int b, std::span<const double> qa, std::span<const double> qb) const {
+  const std::size_t common = shared_actions(a, b);
+  return bound_from(a, common, qa, qb) + bound_from(b, common, qa, qb);
+}
+
+void MotionBound::pair_bounds(const std::vector<std::pair<int, int>>& pairs, std::span<const double> qa,
+                              std::span<const double> qb, std::vector<double>& out) const {
+  // (part, shared prefix) -> bound_from, for this motion.
+  thread_local std::vector<std::pair<std::pair<int, std::size_t>, double>> memo;
+  memo.clear();
+  auto from = [&](int part, std::size_t common) {
+    for (const auto& [key, v] : memo)
+      if (key.first == part && key.second == common) return v;
+    const double v = bound_from(part, common, qa, qb);
+    memo.push_back({{part, common}, v});
+    return v;
+  };
+  out.resize(pairs.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto [a, b] = pairs[k];
+    const std::size_t common = shared_actions(a, b);
+    out[k] = from(a, common) + from(b, common);
+  }
+}
+
+std::size_t MotionBound::shared_actions(int a, int b) const {
   auto chain = [&](int part) -> const std::vector<int>* {
     if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return nullptr;
     return &scene_.parts[static_cast<std::size_t>(part)].chain;
@@ -80,7 +105,7 @@ double MotionBound::pair_bound(int a, int b, std::span<const double> qa, std::sp
     while (common < ca->size() && common < cb->size() && (*ca)[common] == (*cb)[common] &&
            scene_.actions[static_cast<std::size_t>((*ca)[common])].type != ActionType::kScale)
       ++common;
-  return bound_from(a, common, qa, qb) + bound_from(b, common, qa, qb);
+  return common;
 }
 
 double MotionBound::bound_from(int part, std::size_t first, std::span<const double> qa,

@@ -33,6 +33,12 @@ class MotionBound {
   // them only). Indices past the parts are static, as in part_bound.
   double pair_bound(int a, int b, std::span<const double> qa, std::span<const double> qb) const;
 
+  // pair_bound of every pair at once (out[k] for pairs[k]), the same values:
+  // each part's bound from a given shared prefix is computed once (a part in
+  // many pairs, most of them with static parts, is bounded once).
+  void pair_bounds(const std::vector<std::pair<int, int>>& pairs, std::span<const double> qa,
+                   std::span<const double> qb, std::vector<double>& out) const;
+
  private:
   struct PartExtent {
     Vec3 centre = Vec3::Zero();  // bounding-sphere centre of the vertices (m)
@@ -44,6 +50,8 @@ class MotionBound {
   // part_bound over the chain's actions from index `first` inward (the
   // motion in the frame the first `first` actions map into the world).
   double bound_from(int part, std::size_t first, std::span<const double> qa, std::span<const double> qb) const;
+  // The common prefix of a's and b's chains that moves both alike.
+  std::size_t shared_actions(int a, int b) const;
 
   const Scene& scene_;
   std::vector<PartExtent> extents_;

@@ -8,9 +8,10 @@
 // margin on every safe segment, and a witness that an exact check at its
 // configuration confirms. Segments: random ones of a slewing bar past posts
 // (up to three turns, whole turns, the long way round), contacts grazed at
-// 1e-9 m either side of touching and of the margin, and random motions of the
+// 1e-9 m either side of touching and of the margin, random motions of the
 // default arm and of the URDF example's arm (one chain of links: the pair
-// bound that leaves out their shared joints).
+// bound that leaves out their shared joints), and motions of both arms that
+// dip 1e-9 m below the margin between clear ends.
 #include "src/checks/continuous.h"
 #include "src/scene/plan.h"
 #include "src/scene/scene_loader.h"
@@ -22,6 +23,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -205,27 +207,40 @@ fs::path arm_scene(const TempDir& dir, bool urdf) {
   return dir / "urdf.json";
 }
 
+// Random segments of an arm: qa within the limits (+-180 where there are
+// none), qb up to max_step of each range from it.
+struct ArmSegments {
+  std::vector<double> lo, hi;
+  std::mt19937_64 rng;
+  std::uniform_real_distribution<double> unit{0.0, 1.0};
+  ArmSegments(const Scene& scene, std::uint64_t seed) : lo(scene.parameter_names.size()), hi(lo.size()), rng(seed) {
+    for (const Action& a : scene.actions)
+      for (int k = 0; k < a.parameter_count; ++k) {
+        lo[static_cast<std::size_t>(a.first_parameter + k)] = a.has_limits ? a.lower : -180;
+        hi[static_cast<std::size_t>(a.first_parameter + k)] = a.has_limits ? a.upper : 180;
+      }
+  }
+  void next(double max_step, std::vector<double>& qa, std::vector<double>& qb) {
+    qa.resize(lo.size());
+    qb.resize(lo.size());
+    for (std::size_t j = 0; j < lo.size(); ++j) {
+      qa[j] = lo[j] + (hi[j] - lo[j]) * unit(rng);
+      qb[j] = std::clamp(qa[j] + max_step * (hi[j] - lo[j]) * (2 * unit(rng) - 1), lo[j], hi[j]);
+    }
+  }
+};
+
 void random_arm_segments(bool urdf, int count, double max_step) {
   TempDir dir("continuous-reference");
   const Scene scene = load_scene(arm_scene(dir, urdf));
   const Checker checker(scene, 1);
   const SegmentChecker seg(checker, scene, ContinuousOptions{});
-  std::vector<double> lo(scene.parameter_names.size()), hi(lo.size());
-  for (const Action& a : scene.actions)
-    for (int k = 0; k < a.parameter_count; ++k) {
-      lo[static_cast<std::size_t>(a.first_parameter + k)] = a.has_limits ? a.lower : -180;
-      hi[static_cast<std::size_t>(a.first_parameter + k)] = a.has_limits ? a.upper : 180;
-    }
-  std::mt19937_64 rng(urdf ? 7 : 3);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  ArmSegments random(scene, urdf ? 7 : 3);
   Tally t;
   for (int i = 0; i < count; ++i) {
     SCOPED_TRACE((urdf ? "URDF arm segment " : "default arm segment ") + std::to_string(i));
-    std::vector<double> qa(lo.size()), qb(lo.size());
-    for (std::size_t j = 0; j < lo.size(); ++j) {
-      qa[j] = lo[j] + (hi[j] - lo[j]) * unit(rng);
-      qb[j] = std::clamp(qa[j] + max_step * (hi[j] - lo[j]) * (2 * unit(rng) - 1), lo[j], hi[j]);
-    }
+    std::vector<double> qa, qb;
+    random.next(max_step, qa, qb);
     compare(checker, seg, scene.safety_margin, qa, qb, t);
   }
   std::printf("[ %s ] %d segments, %d flagged, %d collisions\n", urdf ? "URDF arm" : "default arm", t.segments,
@@ -240,6 +255,80 @@ TEST(ContinuousReference, RandomMotionsOfTheDefaultArm) {
 
 TEST(ContinuousReference, RandomMotionsOfTheUrdfArmAlongOneChain) {
   random_arm_segments(true, testing::kSanitized ? 20 : 80, 0.2);  // 20: the first that hold a safe segment (18 flagged)
+}
+
+// Arm motions that dip 1e-9 m below the margin between clear ends. For
+// random segments whose least distance lies inside (both ends at least 5 mm
+// farther), located by 65 exact samples and a golden-section search around
+// the least, the margin is set 1e-9 m above the least distance found: a
+// configuration on the segment is then below it, so every algorithm, full
+// and verdict-only, must flag a clearance violation (compare() checks its
+// witness exactly). A motion bound too small on any pair (the pair bound
+// scaled by 0.3) certifies some of these dips as safe.
+void grazing_arm_segments(bool urdf, int want) {
+  TempDir dir("continuous-reference");
+  const Scene scene = load_scene(arm_scene(dir, urdf));
+  const Checker checker(scene, 1);
+  ArmSegments random(scene, urdf ? 17 : 13);
+  std::vector<double> qa, qb, q;
+  StateResult r;
+  Tally t;
+  int found = 0, tries = 0;
+  while (found < want && tries < 300) {
+    ++tries;
+    random.next(0.5, qa, qb);
+    auto dist = [&](double u) {
+      state_between(qa, qb, u, q);
+      checker.check_state(q, r, row_request());
+      return r.collision ? 0.0 : r.min_distance;
+    };
+    constexpr int kSamples = 64;
+    std::vector<double> d(kSamples + 1);
+    d.front() = dist(0.0);
+    d.back() = dist(1.0);
+    if (!(d.front() > 0.0 && d.back() > 0.0)) continue;  // an end in contact: no dip between clear ends
+    for (int i = 1; i < kSamples; ++i) d[static_cast<std::size_t>(i)] = dist(static_cast<double>(i) / kSamples);
+    const auto least = static_cast<int>(std::min_element(d.begin(), d.end()) - d.begin());
+    const double dmin = d[static_cast<std::size_t>(least)];
+    if (least == 0 || least == kSamples || !(dmin > 0.0) || d.front() < dmin + 0.005 || d.back() < dmin + 0.005) continue;
+    // Golden section between the least sample's neighbours; the least
+    // distance seen stays a distance some configuration has.
+    double a = static_cast<double>(least - 1) / kSamples, b = static_cast<double>(least + 1) / kSamples;
+    double best = dmin;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = dist(x1), f2 = dist(x2);
+    for (int i = 0; i < 40; ++i) {
+      best = std::min({best, f1, f2});
+      if (f1 < f2) {
+        b = x2, x2 = x1, f2 = f1, x1 = b - g * (b - a), f1 = dist(x1);
+      } else {
+        a = x1, x1 = x2, f1 = f2, x2 = a + g * (b - a), f2 = dist(x2);
+      }
+    }
+    best = std::min({best, f1, f2});
+    Scene grazed = scene;
+    grazed.safety_margin = best + 1e-9;
+    const SegmentChecker seg(checker, grazed, ContinuousOptions{});
+    SCOPED_TRACE((urdf ? "URDF arm, grazing segment " : "default arm, grazing segment ") + std::to_string(found) +
+                 ", margin " + std::to_string(grazed.safety_margin));
+    Tally one;
+    compare(checker, seg, grazed.safety_margin, qa, qb, one);
+    EXPECT_EQ(one.flagged, 1) << "a configuration lies 1e-9 m below the margin";
+    StateResult sa, sb;
+    EXPECT_EQ(kind(seg.check_motion(qa, qb, true, sa, sb)), 1);
+    EXPECT_EQ(kind(seg.check_motion_reference(qa, qb, true, sa, sb)), 1);
+    ++found;
+  }
+  std::printf("[ %s ] %d grazing segments of %d tried\n", urdf ? "URDF arm" : "default arm", found, tries);
+  EXPECT_EQ(found, want);
+}
+
+TEST(ContinuousReference, DefaultArmMotionsGrazingTheMarginAt1e9) {
+  grazing_arm_segments(false, testing::kSanitized ? 2 : 4);
+}
+
+TEST(ContinuousReference, UrdfArmMotionsGrazingTheMarginAt1e9) {
+  grazing_arm_segments(true, testing::kSanitized ? 2 : 8);
 }
 
 }  // namespace
