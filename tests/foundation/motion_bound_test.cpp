@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -176,6 +177,48 @@ TEST(MotionBound, DegreesBoundTheWrittenTurnNotTheReducedOne) {
   expect_bound(0, {170, 0}, {-170, 0}, 340 * kPi / 180 * r);
   expect_bound(0, {1e4, 0}, {1e4 + 200, 0}, 200 * kPi / 180 * r);
   expect_bound(1, {0, -250}, {0, 750}, 1.0);  // 1000 mm
+}
+
+// pair_bounds (every pair at once, each part's bound per shared prefix
+// computed once) against pair_bound pair by pair, its slow reference: the
+// same values bit for bit. Parts on one random chain, on a prefix of it, on
+// a copy of the whole chain, and static, paired every way and with a static
+// index past the parts (the terrain's), on whole segments and pieces.
+TEST(MotionBound, PairBoundsEqualPairBoundPairByPair) {
+  std::mt19937_64 rng(20261128);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    Scene scene = random_chain_scene(rng);
+    const Part& first = scene.parts[0];
+    Part prefix = first, whole = first, fixed = first;
+    prefix.name = "Prefix";
+    prefix.chain.resize(1 + rng() % first.chain.size());
+    for (Vec3& v : prefix.mesh.vertices) v += Vec3(0.3, -0.2, 0.5);
+    whole.name = "Whole";
+    for (Vec3& v : whole.mesh.vertices) v *= 1.5;
+    fixed.name = "Fixed";
+    fixed.chain.clear();
+    scene.parts.push_back(prefix);
+    scene.parts.push_back(whole);
+    scene.parts.push_back(fixed);
+    const MotionBound bound(scene);
+    const int n = static_cast<int>(scene.parts.size());
+    std::vector<std::pair<int, int>> pairs;
+    for (int a = 0; a <= n; ++a)
+      for (int b = a + 1; b <= n; ++b) pairs.emplace_back(a, b);
+    std::shuffle(pairs.begin(), pairs.end(), rng);
+    const auto qa = random_params(scene, rng), qb = random_params(scene, rng);
+    const double t0 = u(rng), t1 = u(rng);
+    for (auto [ta, tb] : {std::pair{0.0, 1.0}, std::pair{std::min(t0, t1), std::max(t0, t1)}}) {
+      const auto a = lerp(qa, qb, ta), b = lerp(qa, qb, tb);
+      std::vector<double> all;
+      bound.pair_bounds(pairs, a, b, all);
+      ASSERT_EQ(all.size(), pairs.size());
+      for (std::size_t k = 0; k < pairs.size(); ++k)
+        ASSERT_EQ(all[k], bound.pair_bound(pairs[k].first, pairs[k].second, a, b))
+            << "trial " << trial << " pair " << pairs[k].first << "-" << pairs[k].second;
+    }
+  }
 }
 
 }  // namespace
