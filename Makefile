@@ -19,10 +19,11 @@ FUZZ_MODEL_SECONDS ?= 120
 # fuzz_urdf also forks an importer per mesh it resolves: a modest budget.
 FUZZ_URDF_SECONDS ?= 45
 FUZZ_TARGETS ?= scene plan model dem verify urdf partial
-# -O2 as in Release, line tables only (-g1): readable reports, lighter builds.
+# -O1 (ASan's advice: about half the compile time of -O2 here, tests still quick), line
+# tables only (-g1): readable reports, lighter builds.
 # They embed the Release build's viewer bundle (no second npm ci) and skip the
 # browser tests (the Release run has them); the page writer is still tested.
-SAN_CMAKE := -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
+SAN_CMAKE := -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
              -DPLANCHECK_BUILD_BENCH=OFF -DPLANCHECK_VIEWER=OFF -DPLANCHECK_BROWSER_TESTS=OFF \
              -DPLANCHECK_VIEWER_BUNDLE=$(CURDIR)/$(BUILD)/viewer/plancheck-viewer.js $(CMAKE_FLAGS)
 export ASAN_OPTIONS ?= detect_leaks=1:abort_on_error=0:strict_string_checks=1

@@ -25,6 +25,7 @@
 #include "src/base/error.h"
 #include "src/base/files.h"
 #include "src/base/text.h"
+#include "src/scene/kinematics.h"
 
 #include <charconv>
 #include <cmath>
@@ -242,6 +243,14 @@ class PlanParser {
         fail(csv_, "column '" + column_name_[c] + "': scale factor must be positive", line_no, column);
       state[static_cast<std::size_t>(p)] = v;  // as written: only the pose converts it
     }
+    // A pose past the range of doubles (1e308 m added to 1e308 m) cannot
+    // be checked: say so here, where the line is known.
+    chain_transforms(scene_, state, chains_);
+    for (std::size_t c = 0; c < chains_.size(); ++c)
+      if (!chains_[c].matrix().allFinite())
+        fail(csv_, "these values pose node '" +
+                       scene_.actions[static_cast<std::size_t>(scene_.chains[c].back())].node_name +
+                       "' beyond the range of doubles", line_no);
     plan_.states.push_back(std::move(state));
     plan_.lines.push_back(line_no);
   }
@@ -293,6 +302,7 @@ class PlanParser {
   std::string pending_;  // a record whose quoted field spans lines
   long pending_line_ = 0;
   std::vector<std::string> fields_;
+  std::vector<Affine> chains_;  // a row's poses (scratch)
   // Per column: index into the state vector, or -1 for the time column.
   std::vector<int> column_parameter_;
   std::vector<std::string> column_name_;
@@ -308,7 +318,13 @@ void state_between(const std::vector<double>& qa, const std::vector<double>& qb,
     out = qb;
   } else {
     out.resize(qa.size());
-    for (std::size_t j = 0; j < qa.size(); ++j) out[j] = qa[j] + t * (qb[j] - qa[j]);
+    for (std::size_t j = 0; j < qa.size(); ++j) {
+      const double d = qb[j] - qa[j];
+      // Values far apart (1e308 to -1e308) overflow the difference: the
+      // same line, weighted, stays finite (NaN would make the checker's
+      // searches visit every triangle pair).
+      out[j] = std::isfinite(d) ? qa[j] + t * d : (1 - t) * qa[j] + t * qb[j];
+    }
   }
 }
 

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 namespace plancheck {
@@ -194,6 +195,25 @@ TEST_F(PlanTest, NumbersBelowAndAboveTheRangeOfADouble) {
   EXPECT_EQ(sub.states[0][0], 4e-320);
   expect_error("huge.csv", "J1\n1e400\n", {"huge.csv:2:1", "'1e400' is not a finite number (beyond the range of a double)"});
   expect_error("nan.csv", "J1\nnan\n", {"nan.csv:2:1", "is not a finite number"});
+}
+
+// A row whose pose overflows (a factor of 1e308 about a point 2 m away moves
+// the node 2e308 m) cannot be checked: an error at its line. Far-apart
+// finite values (1e308 degrees to -1e308) still interpolate finitely.
+TEST_F(PlanTest, PosesBeyondTheRangeOfADoubleAreErrorsAtTheirLine) {
+  expect_error("far.csv", "J1,Grow.x\n0,1\n0,1e308\n", {"far.csv:3: ", "node 'tip'", "beyond the range of doubles"});
+  const Plan p = load_plan(scene_, dir_.write("wide.csv", "J1,Slide.x\n1e308,1e308\n-1e308,-1e308\n"));
+  ASSERT_EQ(p.states.size(), 2u);
+  std::vector<double> q;
+  for (double t : {0.25, 0.5, 0x1p-30, 1 - 0x1p-30}) {
+    state_between(p.states[0], p.states[1], t, q);
+    for (double v : q) EXPECT_TRUE(std::isfinite(v)) << t;
+  }
+  state_between(p.states[0], p.states[1], 0.5, q);
+  EXPECT_EQ(q[0], 0.0);
+  EXPECT_EQ(q[2], 0.0);
+  state_between(p.states[0], p.states[1], 0.25, q);
+  EXPECT_EQ(q[0], 5e307);
 }
 
 // A plan's name names its report file and lines: text, one line, bounded.
