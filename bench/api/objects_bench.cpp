@@ -15,7 +15,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -64,29 +63,12 @@ int main(int argc, char** argv) {
   fs::create_directories(tmp);
   j.erase("objects");
   std::ofstream(tmp / "plain.json") << j.dump();
-  plancheck::Checker c(plancheck::Scene::load((tmp / "plain.json").string()), 1);
+  const plancheck::Scene scene = plancheck::Scene::load((tmp / "plain.json").string());
+  plancheck::Checker c(scene, 1);
   // A state of plan01 (its middle row, as written), and two poses of a box
   // above the arm's point closest to the lander there.
-  std::vector<double> state;
-  {
-    std::istringstream in(read_text(data / "plans" / "plan01.csv"));
-    std::vector<std::vector<double>> rows;
-    std::string line;
-    bool header = false;
-    while (std::getline(in, line)) {
-      if (line.empty() || line[0] == '#') continue;
-      if (!header) {
-        header = true;
-        continue;
-      }
-      std::vector<double> row;
-      std::istringstream fields(line);
-      std::string f;
-      while (std::getline(fields, f, ',')) row.push_back(std::stod(f));
-      rows.push_back(row);
-    }
-    state = rows[rows.size() / 2];
-  }
+  const std::vector<std::vector<double>> rows = scene.read_plan((data / "plans" / "plan01.csv").string());
+  const std::vector<double> state = rows[rows.size() / 2];
   const plancheck::StateResult base = c.check(state);
   const auto& p0 = base.point_a;
   // Two poses above that point where the box is the closest part without touching.

@@ -9,6 +9,7 @@
 #include "src/base/error.h"
 #include "src/base/parallel.h"
 #include "src/scene/objects.h"
+#include "src/scene/plan.h"
 #include "src/scene/scene_loader.h"
 #include "src/checks/continuous.h"
 #include "src/checks/verify.h"
@@ -23,6 +24,7 @@ using InputError = ::plancheck::InputError;
 using SceneOptions = ::plancheck::SceneOptions;
 using ::plancheck::hardware_threads;
 using ::plancheck::load_scene;
+using ::plancheck::load_plan;
 using ::plancheck::derive_pairs;
 using ::plancheck::ObjectPlace;
 using ::plancheck::WorldObject;
@@ -286,6 +288,10 @@ std::vector<double> Scene::upper_limits() const {
 double Scene::safety_margin() const { return data_->scene.safety_margin / data_->scene.length_scale; }
 std::string Scene::length_unit() const { return data_->scene.length_unit; }
 std::string Scene::angle_unit() const { return data_->scene.angle_unit; }
+
+std::vector<std::vector<double>> Scene::read_plan(const std::string& path) const {
+  return translated([&] { return plancheck_core::load_plan(data_->scene, path).states; });
+}
 
 namespace {
 

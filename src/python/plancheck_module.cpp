@@ -343,6 +343,21 @@ PYBIND11_MODULE(_plancheck, m) {
       .def_property_readonly("upper_limits", [](const PyScene& s) { return as_array(s.scene().upper_limits()); },
                              "float64 per parameter: upper limit in plan units, inf where none")
       .def_property_readonly("reference_state", [](const PyScene& s) { return s.scene().reference_state(); })
+      .def(
+          "read_plan",
+          [](const PyScene& s, const std::filesystem::path& path) {
+            const std::vector<std::vector<double>> rows = s.scene().read_plan(path.string());
+            const std::size_t n = s.scene().parameter_names().size();
+            py::array_t<double> out({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(n)});
+            auto o = out.mutable_unchecked<2>();
+            for (std::size_t i = 0; i < rows.size(); ++i)
+              for (std::size_t j = 0; j < n; ++j) o(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(j)) = rows[i][j];
+            return out;
+          },
+          py::arg("path"),
+          "A plan CSV read as verify reads it: float64 (states, parameters), one row per state, a\n"
+          "column the file leaves out at its reference value, values as written (raises\n"
+          "plancheck.Error naming the file, line and column)")
       .def_property_readonly("safety_margin", [](const PyScene& s) { return s.scene().safety_margin(); },
                              "length_unit")
       .def_property_readonly("length_unit", [](const PyScene& s) { return s.scene().length_unit(); })

@@ -126,24 +126,6 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& p) {
   return rows;
 }
 
-// A plan CSV's states (no time column in these plans).
-std::vector<std::vector<double>> read_plan(const fs::path& p, const std::vector<std::string>& names) {
-  std::vector<std::vector<double>> states;
-  bool header = false;
-  for (const auto& row : read_csv(p)) {
-    if (row.empty() || row[0].empty() || row[0][0] == '#') continue;
-    if (!header) {
-      header = true;
-      EXPECT_EQ(row, names) << p;
-      continue;
-    }
-    std::vector<double> s;
-    for (const std::string& f : row) s.push_back(std::stod(f));
-    states.push_back(s);
-  }
-  return states;
-}
-
 std::size_t tied_states = 0;  // states whose closest points differ from verify's at an equal distance
 
 // verify's number format in the per-plan CSV (src/report.cpp).
@@ -337,6 +319,30 @@ TEST(Api, BadStatesThrow) {
   EXPECT_EQ(checker.check_batch({}).size(), 0u);
 }
 
+// Scene::read_plan reads a plan as verify does (comments, quoted names, a
+// time column, values as written) and fails with verify's message.
+TEST(Api, ReadPlanReadsAsVerifyReads) {
+  TempDir t;
+  write_bar_scene(t.path, 1.0, "m");
+  const plancheck::Scene scene = plancheck::Scene::load((t.path / "scene.json").string());
+  write_text(t.path / "p.csv", "# name: x\ntime,\"J1\"\n0,10\n1.5,-20.5\n2,1e300\n");
+  EXPECT_EQ(scene.read_plan((t.path / "p.csv").string()),
+            (std::vector<std::vector<double>>{{10.0}, {-20.5}, {1e300}}));
+  write_text(t.path / "bad.csv", "J1\n0\nfive\n");
+  std::string err;
+  ASSERT_EQ(run_verify(std::string("\"") + (t.path / "scene.json").string() + "\" \"" + (t.path / "bad.csv").string() +
+                           "\" --out \"" + (t.path / "out").string() + "\"",
+                       &err),
+            2);
+  try {
+    (void)scene.read_plan((t.path / "bad.csv").string());
+    ADD_FAILURE() << "no error";
+  } catch (const plancheck::Error& e) {
+    EXPECT_EQ("plancheck: " + std::string(e.what()) + "\n", err);
+    EXPECT_NE(std::string(e.what()).find("bad.csv:3:1"), std::string::npos) << e.what();
+  }
+}
+
 // check_batch on 1 and 2 threads and check() from several threads at once
 // give the same answers bit for bit (states are independent).
 TEST(Api, ThreadsAgree) {
@@ -401,7 +407,7 @@ TEST(ApiDataset, DefaultPlansEqualVerify) {
   const plancheck::Checker checker(scene);
   std::size_t states = 0, non_safe = 0;
   for (std::size_t p = 0; p < plans.size(); ++p) {
-    const auto plan_states = read_plan(plans[p], scene.parameter_names());
+    const auto plan_states = scene.read_plan(plans[p].string());
     const auto results = checker.check_batch(plan_states);
     const nlohmann::json& plan = report["plans"][p];
     const auto rows = read_csv(t.path / "out" / (plan["name"].get<std::string>() + ".csv"));
@@ -437,7 +443,7 @@ TEST(ApiDataset, DefaultPlansEqualVerify) {
   fs::create_directories(single);
   std::size_t k = 0;
   for (const fs::path& p : plans)
-    for (const auto& state : read_plan(p, scene.parameter_names()))
+    for (const auto& state : scene.read_plan(p.string()))
       if (k++ % 7 == 0) {
         std::string text = header + "\n";
         char value[32];
@@ -705,7 +711,7 @@ TEST(ApiDataset, MotionsEqualVerifyContinuous) {
   const std::size_t every = 3;
 #endif
   for (const fs::path& p : plans) {
-    const auto states = read_plan(p, scene.parameter_names());
+    const auto states = scene.read_plan(p.string());
     for (std::size_t s = 0; s + 1 < states.size(); s += every) motions.emplace_back(states[s], states[s + 1]);
   }
   const std::size_t from_plans = motions.size();

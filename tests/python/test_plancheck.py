@@ -305,6 +305,18 @@ class ModuleTest(unittest.TestCase):
             np.testing.assert_array_equal(r.point_a, one.point_a)
 
 
+    def test_read_plan(self):
+        scene = plancheck.Scene(write_bar_scene(self.dir), threads=1)
+        plan = self.dir / "p.csv"
+        plan.write_text('# name: x\ntime,"J1"\n0,10\n1.5,-20.5\n2,1e300\n')
+        states = scene.read_plan(plan)
+        self.assertEqual(states.shape, (3, 1))
+        self.assertEqual(states[:, 0].tolist(), [10.0, -20.5, 1e300])
+        bad = self.dir / "bad.csv"
+        bad.write_text("J1\n0\nfive\n")
+        with self.assertRaisesRegex(plancheck.Error, "bad.csv:3:1: column 'J1': 'five' is not a finite number"):
+            scene.read_plan(str(bad))
+
     def test_limits_one_state_and_complex_values(self):
         scene_file = write_bar_scene(self.dir)
         scene = plancheck.Scene(scene_file, threads=1)
@@ -400,7 +412,9 @@ class DatasetTest(unittest.TestCase):
                     lines = [l for l in f if not l.startswith("#") and l.strip()]
                 header = lines[0].strip().split(",")
                 self.assertEqual(header, scene.parameter_names)
-                states = np.loadtxt(lines[1:], delimiter=",", ndmin=2)
+                states = scene.read_plan(plan_file)
+                self.assertEqual(states.dtype, np.float64)
+                np.testing.assert_array_equal(states, np.loadtxt(lines[1:], delimiter=",", ndmin=2), plan["name"])
                 r = scene.check(states)
                 expect_rows(self, r, read_rows(pathlib.Path(tmp) / "out" / (plan["name"] + ".csv")), plan["name"],
                             tie_points=True)

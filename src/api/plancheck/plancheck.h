@@ -187,6 +187,12 @@ class PLANCHECK_API Scene {
   std::string length_unit() const;  // as written in the scene ("m", "mm", ...)
   std::string angle_unit() const;   // "deg" or "rad"
 
+  // A plan CSV read as verify reads it: one state per row (each a value per
+  // parameter_names(); a column the file leaves out keeps its reference
+  // value; a `time` column is not part of a state), values as written.
+  // Throws Error with verify's message (file, line and column).
+  std::vector<std::vector<double>> read_plan(const std::string& path) const;
+
  private:
   friend class Checker;
   explicit Scene(std::shared_ptr<const detail::SceneData> data);
