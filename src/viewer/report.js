@@ -542,6 +542,11 @@ export function reportPage(data, root) {
     poseCheck: () => { for (const p of plans) decoded(p); return { worst: poseWorst, states: poseStates, tolerance: 1e-5 * extent }; },
     detailPlans: () => plans.filter((p) => p.detail).map((p) => p.name),
     partStatus: (name) => parts.find((p) => p.name === name)?.status,
+    // Triangles of a part drawn in the scene (0: absent or hidden).
+    partTriangles: (name) => {
+      const p = parts.find((q) => q.name === name);
+      return p && p.mesh.visible && p.mesh.parent ? p.mesh.geometry.index.count / 3 : 0;
+    },
     partColor: (name) => parts.find((p) => p.name === name)?.mesh.material.color.getHexString(),
     highlightTriangles: () => highlight.children.filter((m) => m.isMesh).reduce((n, m) => n + m.geometry.attributes.position.count / 3, 0),
     chartPoints: () => (chart ? chart.data[1].length : 0),

@@ -3,7 +3,7 @@
 # kinematics_pages.sh PLANCHECK OUT: report.html of tests/viewer/kinematics
 # (every action type: a rotation about a tilted axis, a free translation
 # and a scale composed on one part, a translation along a non-unit axis and
-# a rotation on another) for 60 plans of one random state each (the page carries the checker's transforms at a plan's closest state), some with
+# a rotation on another; world objects attached to each and one in the world) for 60 plans of one random state each (the page carries the checker's transforms at a plan's closest state), some with
 # angles of many whole turns (float64 parameters). ctest viewer.kinematics
 # compares the page's poses with the checker's at those states.
 set -euo pipefail
