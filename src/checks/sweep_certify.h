@@ -29,6 +29,7 @@
 
 #include "src/checks/sweep_grid.h"
 #include "src/checks/verify.h"
+#include "src/geometry/box_motion.h"
 #include "src/geometry/motion_bound.h"
 
 #include <array>
@@ -81,6 +82,13 @@ class SweepCertifier {
   // test poses them (m); false when no crossing witness can hold over it.
   bool witness_moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi, double& da,
                      double& db) const;
+  // How far checked pair k's parts can move relative to each other between
+  // c and any configuration of the box [lo, hi] (m): the least of
+  // Checker::pair_motion and the tighter BoxMotion bound.
+  double pair_reach(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
+                    const std::vector<double>& c) const;
+  // The same between two configurations (Checker::pair_path or tighter).
+  double pair_path(std::size_t k, const std::vector<double>& from, const std::vector<double>& to) const;
   // Whether one of these triangle pairs crossing at a box centre (world
   // corners as posed there) stays crossing under those moves.
   bool crossing(const std::vector<std::array<Vec3, 6>>& crossings, double da, double db) const;
@@ -104,6 +112,7 @@ class SweepCertifier {
   // triangle whose inradius exceeds them (witness_moves).
   std::vector<double> inradius_, longest_edge_;
   MotionBound motion_;
+  BoxMotion box_motion_;
   // Limits, per axis and value and for the parameters no axis sweeps.
   std::vector<std::vector<std::uint8_t>> outside_limits_;
   bool fixed_outside_limits_ = false;
