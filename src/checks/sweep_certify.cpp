@@ -551,10 +551,29 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
     certified_all(floor);
     return;
   }
-  // Halve the box across its longest side (in values).
+  // Halve the box across the side that moves the pairs left most (each
+  // side's share of their motion bound: the sides alone), among the sides
+  // of more than one value; the longest side (in values) on a tie.
   std::size_t split = 0;
   for (std::size_t k = 1; k < d; ++k)
     if (hi[k] - lo[k] > hi[split] - lo[split]) split = k;
+  if (d > 1) {
+    std::vector<double> slo = qc, shi = qc;
+    double most = -1.0;
+    for (std::size_t k = 0; k < d; ++k) {
+      if (hi[k] == lo[k]) continue;
+      const std::size_t p = static_cast<std::size_t>(grid_.axes[g.axes[k]].parameter);
+      slo[p] = qlo[p];
+      shi[p] = qhi[p];
+      double share = 0.0;
+      for (const Pending& q : still) share += pair_reach(q.pair, slo, shi, qc);
+      slo[p] = shi[p] = qc[p];
+      if (share > most || (share == most && hi[k] - lo[k] > hi[split] - lo[split])) {
+        most = share;
+        split = k;
+      }
+    }
+  }
   const std::size_t mid = lo[split] + (hi[split] - lo[split]) / 2;
   const std::size_t old_lo = lo[split], old_hi = hi[split];
   std::vector<Pending> copy = still;
