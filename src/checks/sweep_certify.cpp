@@ -319,7 +319,11 @@ double SweepCertifier::pair_path(std::size_t k, const std::vector<double>& from,
     lo[i] = std::min(from[i], to[i]);
     hi[i] = std::max(from[i], to[i]);
   }
-  return std::min(checker_.pair_path(k, from, to), pair_reach(k, lo, hi, from));
+  // Not pair_reach: Checker::pair_motion halves the path, from the box's
+  // centre only; `from` is a corner of this box.
+  const auto [a, b] = pair_parts_[k];
+  const double tight = box_motion_.reach(a, lo, hi, from) + box_motion_.reach(b, lo, hi, from);
+  return std::min(checker_.pair_path(k, from, to), tight);
 }
 
 bool SweepCertifier::witness_moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,

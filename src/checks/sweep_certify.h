@@ -64,6 +64,17 @@ class SweepCertifier {
   // Checks block b (thread-safe; the answer depends on b alone).
   void check_block(std::size_t b, SweepBlockResult& out) const;
 
+  // The motion bounds boxes are certified with (public for their tests).
+  // How far any point of checked pair k's two parts can move (the sum of
+  // both parts') between the box's centre c (c = lo + (hi - lo) / 2, as
+  // certify takes it) and any configuration of the box [lo, hi] (m): the
+  // least of Checker::pair_motion and the tighter BoxMotion bound.
+  double pair_reach(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
+                    const std::vector<double>& c) const;
+  // The same between two configurations (the least of Checker::pair_path
+  // and BoxMotion's reach from `from` over the box the two span).
+  double pair_path(std::size_t k, const std::vector<double>& from, const std::vector<double>& to) const;
+
  private:
   struct Group {
     std::vector<std::size_t> axes;   // indices into grid.axes, increasing
@@ -82,13 +93,6 @@ class SweepCertifier {
   // test poses them (m); false when no crossing witness can hold over it.
   bool witness_moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi, double& da,
                      double& db) const;
-  // How far checked pair k's parts can move relative to each other between
-  // c and any configuration of the box [lo, hi] (m): the least of
-  // Checker::pair_motion and the tighter BoxMotion bound.
-  double pair_reach(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
-                    const std::vector<double>& c) const;
-  // The same between two configurations (Checker::pair_path or tighter).
-  double pair_path(std::size_t k, const std::vector<double>& from, const std::vector<double>& to) const;
   // Whether one of these triangle pairs crossing at a box centre (world
   // corners as posed there) stays crossing under those moves.
   bool crossing(const std::vector<std::array<Vec3, 6>>& crossings, double da, double db) const;
