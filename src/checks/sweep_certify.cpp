@@ -95,7 +95,7 @@ struct SweepCertifier::Context {
 };
 
 SweepCertifier::SweepCertifier(const Checker& checker, const Scene& scene, const SweepGrid& grid)
-    : checker_(checker), scene_(scene), grid_(grid), blocks_(grid.shape()), motion_(scene) {
+    : checker_(checker), scene_(scene), grid_(grid), blocks_(grid.shape()), motion_(scene), box_motion_(scene) {
   // Groups: pairs by the swept axes their distance depends on.
   std::map<std::vector<std::size_t>, std::vector<std::size_t>> by_axes;
   const std::size_t pairs = checker.pairs().size();
@@ -304,6 +304,28 @@ void SweepCertifier::answer_point(Context& c, const std::vector<std::size_t>& at
   }
 }
 
+double SweepCertifier::pair_reach(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
+                                  const std::vector<double>& c) const {
+  const auto [a, b] = pair_parts_[k];
+  const double tight = box_motion_.reach(a, lo, hi, c) + box_motion_.reach(b, lo, hi, c);
+  return std::min(checker_.pair_motion(k, lo, hi), tight);  // both bound it
+}
+
+double SweepCertifier::pair_path(std::size_t k, const std::vector<double>& from, const std::vector<double>& to) const {
+  thread_local std::vector<double> lo, hi;
+  lo.resize(from.size());
+  hi.resize(from.size());
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    lo[i] = std::min(from[i], to[i]);
+    hi[i] = std::max(from[i], to[i]);
+  }
+  // Not pair_reach: Checker::pair_motion halves the path, from the box's
+  // centre only; `from` is a corner of this box.
+  const auto [a, b] = pair_parts_[k];
+  const double tight = box_motion_.reach(a, lo, hi, from) + box_motion_.reach(b, lo, hi, from);
+  return std::min(checker_.pair_path(k, from, to), tight);
+}
+
 bool SweepCertifier::witness_moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
                                    double& da, double& db) const {
   if (!crossable_[k]) return false;
@@ -450,12 +472,12 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
   bool witnessed = false;
   for (const Pending& p : pending) {
     const std::size_t k = p.pair;
-    const double m = checker_.pair_motion(k, qlo, qhi);
+    const double m = pair_reach(k, qlo, qhi, qc);
     // What the pair's last answer (at c.pool[p.at]) says at this centre:
     // the distance moves by at most the parts' relative path.
     double lb = 0.0, ub = kInf;
     if (p.at >= 0) {
-      const double path = checker_.pair_path(k, c.pool[static_cast<std::size_t>(p.at)], qc);
+      const double path = pair_path(k, c.pool[static_cast<std::size_t>(p.at)], qc);
       lb = p.lb - path;
       ub = p.ub + path;
     }
@@ -533,10 +555,29 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
     certified_all(floor);
     return;
   }
-  // Halve the box across its longest side (in values).
+  // Halve the box across the side that moves the pairs left most (each
+  // side's share of their motion bound: the sides alone), among the sides
+  // of more than one value; the longest side (in values) on a tie.
   std::size_t split = 0;
   for (std::size_t k = 1; k < d; ++k)
     if (hi[k] - lo[k] > hi[split] - lo[split]) split = k;
+  if (d > 1) {
+    std::vector<double> slo = qc, shi = qc;
+    double most = -1.0;
+    for (std::size_t k = 0; k < d; ++k) {
+      if (hi[k] == lo[k]) continue;
+      const std::size_t p = static_cast<std::size_t>(grid_.axes[g.axes[k]].parameter);
+      slo[p] = qlo[p];
+      shi[p] = qhi[p];
+      double share = 0.0;
+      for (const Pending& q : still) share += pair_reach(q.pair, slo, shi, qc);
+      slo[p] = shi[p] = qc[p];
+      if (share > most || (share == most && hi[k] - lo[k] > hi[split] - lo[split])) {
+        most = share;
+        split = k;
+      }
+    }
+  }
   const std::size_t mid = lo[split] + (hi[split] - lo[split]) / 2;
   const std::size_t old_lo = lo[split], old_hi = hi[split];
   std::vector<Pending> copy = still;

@@ -29,6 +29,7 @@
 
 #include "src/checks/sweep_grid.h"
 #include "src/checks/verify.h"
+#include "src/geometry/box_motion.h"
 #include "src/geometry/motion_bound.h"
 
 #include <array>
@@ -62,6 +63,17 @@ class SweepCertifier {
 
   // Checks block b (thread-safe; the answer depends on b alone).
   void check_block(std::size_t b, SweepBlockResult& out) const;
+
+  // The motion bounds boxes are certified with (public for their tests).
+  // How far any point of checked pair k's two parts can move (the sum of
+  // both parts') between the box's centre c (c = lo + (hi - lo) / 2, as
+  // certify takes it) and any configuration of the box [lo, hi] (m): the
+  // least of Checker::pair_motion and the tighter BoxMotion bound.
+  double pair_reach(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
+                    const std::vector<double>& c) const;
+  // The same between two configurations (the least of Checker::pair_path
+  // and BoxMotion's reach from `from` over the box the two span).
+  double pair_path(std::size_t k, const std::vector<double>& from, const std::vector<double>& to) const;
 
  private:
   struct Group {
@@ -104,6 +116,7 @@ class SweepCertifier {
   // triangle whose inradius exceeds them (witness_moves).
   std::vector<double> inradius_, longest_edge_;
   MotionBound motion_;
+  BoxMotion box_motion_;
   // Limits, per axis and value and for the parameters no axis sweeps.
   std::vector<std::vector<std::uint8_t>> outside_limits_;
   bool fixed_outside_limits_ = false;

@@ -10,7 +10,9 @@
 #include "support/fixtures.h"
 #include "support/sanitized.h"
 
+#include "src/checks/sweep_certify.h"
 #include "src/checks/sweep_grid.h"
+#include "src/scene/kinematics.h"
 #include "src/checks/verify.h"
 #include "src/scene/scene_loader.h"
 
@@ -192,6 +194,73 @@ TEST(SweepCertify, ThinWallIsNotCertifiedAway) {
   EXPECT_GT(run.summary["counts"]["safe"].get<std::size_t>(), 0u);
   EXPECT_LT(run.summary["checked"].get<std::size_t>(), run.summary["configurations"].get<std::size_t>() / 2);
   EXPECT_TRUE(collides_with(run, "wall")) << run.summary["colliding_pairs"].dump();
+}
+
+// The motion bounds boxes are certified with (SweepCertifier::pair_reach,
+// from a box's centre, and pair_path, between two configurations) against
+// the parts as posed: on the wall arm, no vertex of a checked pair's two
+// parts moves farther, summed over both, than the bound, from the centre
+// of random boxes to their corners and random points, and from one random
+// configuration to another. The samples come within half of the bounds, so
+// a bound halved (or taken from the centre where it is not) fails here.
+TEST(SweepCertify, MotionBoundsHoldOnTheWallArm) {
+  TempDir dir("sweep-certify-bounds");
+  write_wall_scene(dir);
+  const Scene scene = load_scene(dir / "scene.json");
+  const Checker checker(scene, 1);
+  SweepGrid grid;
+  grid.axes = sweep_axes_from_grid(scene, "J1=-3.1:3.1:0.02,J2=-1.5:1.5:0.05");
+  grid.reference = scene.reference_parameters;
+  for (const SweepAxis& a : grid.axes) grid.total *= a.values.size();
+  const SweepCertifier certifier(checker, scene, grid);
+  auto moved = [&](int part, const std::vector<double>& from, const std::vector<double>& to) {
+    if (part < 0 || static_cast<std::size_t>(part) >= scene.parts.size()) return 0.0;
+    const Affine ta = part_transform(scene, part, from), tb = part_transform(scene, part, to);
+    double m = 0.0;
+    for (const Vec3& v : scene.parts[static_cast<std::size_t>(part)].mesh.vertices) m = std::max(m, (tb * v - ta * v).norm());
+    return m;
+  };
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double reach_ratio = 0.0, path_ratio = 0.0;
+  std::size_t moving_pairs = 0;
+  for (std::size_t k = 0; k < checker.pairs().size(); ++k) {
+    const auto [a, b] = checker.pairs()[k];
+    (void)b;
+    for (int trial = 0; trial < 40; ++trial) {
+      std::vector<double> lo = grid.reference, hi = lo, c = lo, q = lo, from = lo, to = lo;
+      for (const SweepAxis& ax : grid.axes) {
+        const std::size_t p = static_cast<std::size_t>(ax.parameter);
+        const double width = std::pow(10.0, -3.0 * u(rng));
+        lo[p] = -3.0 + u(rng) * (6.0 - width);
+        hi[p] = lo[p] + width;
+        c[p] = lo[p] + 0.5 * (hi[p] - lo[p]);
+        from[p] = -3.0 + 6.0 * u(rng);
+        to[p] = from[p] + (u(rng) - 0.5) * width;
+      }
+      const double reach = certifier.pair_reach(k, lo, hi, c);
+      for (int s = 0; s < 12; ++s) {
+        std::size_t i = 0;
+        for (const SweepAxis& ax : grid.axes) {
+          const std::size_t p = static_cast<std::size_t>(ax.parameter);
+          const double t = s < 4 ? static_cast<double>((s >> i) & 1) : u(rng);  // corners first
+          q[p] = lo[p] + t * (hi[p] - lo[p]);
+          ++i;
+        }
+        const double d = moved(a, c, q) + moved(b, c, q);
+        ASSERT_LE(d, reach) << "pair " << k << " trial " << trial;
+        if (d > 0.0 && s == 0 && trial == 0) ++moving_pairs;
+        reach_ratio = std::max(reach_ratio, d / reach);
+      }
+      const double path = certifier.pair_path(k, from, to);
+      const double d = moved(a, from, to) + moved(b, from, to);
+      ASSERT_LE(d, path) << "pair " << k << " trial " << trial;
+      path_ratio = std::max(path_ratio, d / path);
+    }
+  }
+  EXPECT_GT(moving_pairs, 0u);
+  EXPECT_GT(reach_ratio, 0.5);
+  EXPECT_GT(path_ratio, 0.5);
 }
 
 // Contact regions certified by crossing witnesses, on the 2 mm wall: a

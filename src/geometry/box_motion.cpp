@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: MIT
+// Box motion bounds (src/geometry/box_motion.h).
+#include "src/geometry/box_motion.h"
+
+#include "src/scene/kinematics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace plancheck {
+
+namespace {
+
+// Vertices are split this many times (at the median of the longest side):
+// up to 2^kSplits clusters a part.
+constexpr int kSplits = 3;
+
+double line_distance(const Vec3& x, const Vec3& p, const Vec3& u) {
+  const double n = u.norm();
+  return n > 0.0 ? (x - p).cross(u).norm() / n : (x - p).norm();
+}
+
+void split(std::vector<Vec3>& v, std::size_t from, std::size_t to, int depth, std::vector<std::pair<std::size_t, std::size_t>>& out) {
+  if (depth == 0 || to - from < 16) {
+    out.push_back({from, to});
+    return;
+  }
+  Vec3 lo = v[from], hi = v[from];
+  for (std::size_t i = from; i < to; ++i) {
+    lo = lo.cwiseMin(v[i]);
+    hi = hi.cwiseMax(v[i]);
+  }
+  int axis = 0;
+  (hi - lo).maxCoeff(&axis);
+  const std::size_t mid = from + (to - from) / 2;
+  std::nth_element(v.begin() + static_cast<std::ptrdiff_t>(from), v.begin() + static_cast<std::ptrdiff_t>(mid),
+                   v.begin() + static_cast<std::ptrdiff_t>(to),
+                   [axis](const Vec3& a, const Vec3& b) { return a[axis] < b[axis]; });
+  split(v, from, mid, depth - 1, out);
+  split(v, mid, to, depth - 1, out);
+}
+
+}  // namespace
+
+BoxMotion::BoxMotion(const Scene& scene) : scene_(scene), fallback_(scene) {
+  parts_.resize(scene.parts.size());
+  for (std::size_t i = 0; i < scene.parts.size(); ++i) {
+    const Part& part = scene.parts[i];
+    PartData& d = parts_[i];
+    if (!part.moving() || part.mesh.triangles.empty()) continue;
+    for (int a : part.chain)
+      if (scene.actions[static_cast<std::size_t>(a)].type == ActionType::kScale) d.rigid = false;
+    std::vector<Vec3> v;
+    v.reserve(part.mesh.triangles.size() * 3);
+    for (const Tri& t : part.mesh.triangles)
+      for (std::uint32_t k : t) v.push_back(part.mesh.vertices[k]);
+    std::vector<std::pair<std::size_t, std::size_t>> ranges;
+    split(v, 0, v.size(), kSplits, ranges);
+    const Action& inner = scene.actions[static_cast<std::size_t>(part.chain.back())];
+    for (const auto& [from, to] : ranges) {
+      Vec3 lo = v[from], hi = v[from];
+      for (std::size_t k = from; k < to; ++k) {
+        lo = lo.cwiseMin(v[k]);
+        hi = hi.cwiseMax(v[k]);
+      }
+      Cluster c;
+      c.centre = 0.5 * (lo + hi);
+      for (std::size_t k = from; k < to; ++k) {
+        c.radius = std::max(c.radius, (v[k] - c.centre).norm());
+        if (inner.type == ActionType::kRotate)
+          c.inner_arm = std::max(c.inner_arm, line_distance(v[k], inner.pivot, inner.axis));
+      }
+      // Rounding of the two loops above: a relative pad far above it.
+      c.radius = c.radius * (1.0 + 1e-12) + 1e-15;
+      c.inner_arm = c.inner_arm * (1.0 + 1e-12) + 1e-15;
+      d.clusters.push_back(c);
+    }
+  }
+}
+
+std::size_t BoxMotion::clusters(int part) const {
+  if (part < 0 || static_cast<std::size_t>(part) >= parts_.size()) return 0;
+  return parts_[static_cast<std::size_t>(part)].clusters.size();
+}
+
+double BoxMotion::reach(int part, std::span<const double> lo, std::span<const double> hi,
+                        std::span<const double> c) const {
+  if (part < 0 || static_cast<std::size_t>(part) >= parts_.size()) return 0.0;
+  const PartData& d = parts_[static_cast<std::size_t>(part)];
+  const Part& p = scene_.parts[static_cast<std::size_t>(part)];
+  if (d.clusters.empty()) return 0.0;
+  if (!d.rigid) return fallback_.part_bound(part, lo, hi);
+  const std::size_t k = p.chain.size();
+  if (k > 64) return std::numeric_limits<double>::infinity();
+  // Per action: how far its value moves from c within the box (rad or m
+  // along the path), and its transform at c.
+  double h[64];
+  Affine at[64];
+  for (std::size_t n = 0; n < k; ++n) {
+    const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
+    if (a.type == ActionType::kTranslateFree) {
+      const std::size_t f = static_cast<std::size_t>(a.first_parameter);
+      double s = 0.0;
+      for (std::size_t j = 0; j < 3; ++j) {
+        const double e = std::max(std::abs(hi[f + j] - c[f + j]), std::abs(lo[f + j] - c[f + j]));
+        s += e * e;
+      }
+      h[n] = std::sqrt(s) * a.unit_to_si;
+    } else {
+      // Driving values are affine in one parameter: extremes at lo and hi.
+      const double vc = driving_value(scene_, a, c);
+      const double e = std::max(std::abs(driving_value(scene_, a, hi) - vc), std::abs(driving_value(scene_, a, lo) - vc));
+      h[n] = e * a.unit_to_si * (a.type == ActionType::kTranslateAxis ? a.axis.norm() : 1.0);
+    }
+    if (!std::isfinite(h[n])) return std::numeric_limits<double>::infinity();
+  }
+  std::size_t outer = k;  // the outermost action that moves: nothing outside it matters
+  for (std::size_t n = 0; n < k && outer == k; ++n)
+    if (h[n] > 0.0) outer = n;
+  if (outer == k) return 0.0;
+  for (std::size_t n = outer + 1; n < k; ++n)
+    at[n] = action_transform_at(scene_, scene_.actions[static_cast<std::size_t>(p.chain[n])], c);
+  double best = 0.0;
+  for (const Cluster& cl : d.clusters) {
+    Vec3 y = cl.centre;
+    double path = 0.0;  // sum over the actions inside n of h_j arm_j
+    for (std::size_t n = k; n-- > outer;) {
+      const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
+      if (a.type == ActionType::kRotate) {
+        if (h[n] != 0.0) {
+          double arm = line_distance(y, a.pivot, a.axis) + cl.radius + path;
+          if (n + 1 == k) arm = std::min(arm, cl.inner_arm);
+          path += h[n] * arm;
+        }
+      } else {
+        path += h[n];
+      }
+      if (n > outer) y = at[n] * y;
+    }
+    best = std::max(best, path);
+  }
+  if (!std::isfinite(best)) return std::numeric_limits<double>::infinity();
+  return best * (1.0 + 1e-9) + 1e-12;
+}
+
+}  // namespace plancheck

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: MIT
+// How far any point of a part can be from where it is at one configuration
+// c, anywhere in a box of configurations around c: a tighter bound than
+// MotionBound::part_bound for the sweep's boxes (src/checks/sweep_certify.h).
+//
+// MotionBound carries a sphere about each action's pivot outwards, so a
+// rotation's lever is the farthest any pose of the inner joints could put
+// the part from its axis (an arm bent back counts as stretched out). Here
+// the lever is read at the pose c itself: for a point x of the part under
+// rigid actions A1 (root) ... Ak, posed at p(q) = A1(...Ak(x)), the path
+// from c to any q of the box is at most sum_i h_i sup dist(y_i, axis_i)
+// (h_i the most action i's value moves from c within the box, in rad or m;
+// y_i = A_{i+1}(...Ak(x)) the point action i turns), and
+//   dist(y_i(q), axis_i) <= dist(Y_i(c) z, axis_i) + rho + sum_{j>i} h_j arm_j
+// for x in a sphere (z, rho) of the part: Y_i(c) is an isometry, and the
+// inner actions move y_i by at most their own path. The part's vertices
+// are split into a few clusters, each in its own sphere, and the bound is
+// the largest cluster's; the innermost rotation's lever is also at most the
+// cluster's exact largest distance from that axis. Chains with a scale
+// action (not isometries) fall back to MotionBound::part_bound over the box.
+// This bound may be unified later with src/geometry/motion_bound.h.
+#pragma once
+
+#include "src/geometry/motion_bound.h"
+#include "src/scene/scene.h"
+
+#include <span>
+#include <vector>
+
+namespace plancheck {
+
+class BoxMotion {
+ public:
+  explicit BoxMotion(const Scene& scene);
+
+  // An upper bound (m) on |p(q, x) - p(c, x)| for every point x of `part`
+  // and every q with lo <= q <= hi componentwise (full parameter vectors;
+  // c must lie in that box). 0 for static parts and indices past the parts
+  // (the terrain); padded for rounding; +infinity when an input is not
+  // finite.
+  double reach(int part, std::span<const double> lo, std::span<const double> hi, std::span<const double> c) const;
+
+  // The clusters one part's vertices are split into (statistics, tests).
+  std::size_t clusters(int part) const;
+
+ private:
+  struct Cluster {
+    Vec3 centre = Vec3::Zero();  // part frame (m)
+    double radius = 0.0;         // max |x - centre| over the cluster's vertices
+    double inner_arm = 0.0;      // max distance of its vertices from the innermost rotation's axis
+  };
+  struct PartData {
+    bool rigid = true;  // no scale action in the chain
+    std::vector<Cluster> clusters;
+  };
+  const Scene& scene_;
+  MotionBound fallback_;
+  std::vector<PartData> parts_;
+};
+
+}  // namespace plancheck

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+// BoxMotion against the poses themselves: on random chains of rotations and
+// translations, no vertex posed anywhere in a random box (its corners first,
+// then random points) is farther than the bound from where it is at a random
+// point c of the box; the samples come within half of the bound, so a
+// halved bound fails.
+#include "src/geometry/box_motion.h"
+#include "src/scene/kinematics.h"
+#include "support/random_chain.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace plancheck {
+namespace {
+
+// The largest distance of any vertex, posed at q, from itself posed at c.
+double moved(const Scene& scene, const std::vector<double>& c, const std::vector<double>& q) {
+  const Affine tc = part_transform(scene, 0, c), tq = part_transform(scene, 0, q);
+  double m = 0.0;
+  for (const Vec3& v : scene.parts[0].mesh.vertices) m = std::max(m, (tq * v - tc * v).norm());
+  return m;
+}
+
+// Largest vertex move over the box seen by sampling, against the bound; the
+// bound scaled by `scale` (a test of the test: 0.5 must fail somewhere).
+bool holds_everywhere(double scale, double* tightest = nullptr) {
+  std::mt19937_64 rng(20261128);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double worst = 0.0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Scene scene = testing::random_chain_scene(rng, /*scales=*/false);
+    const BoxMotion bound(scene);
+    const std::size_t p = scene.reference_parameters.size();
+    std::vector<double> lo(p), hi(p), c(p);
+    for (const Action& a : scene.actions)
+      for (int k = 0; k < a.parameter_count; ++k) {
+        const std::size_t i = static_cast<std::size_t>(a.first_parameter + k);
+        // Boxes from a hair to about a radian (or a metre) wide.
+        const double width = std::pow(10.0, -3.0 * u(rng)) / a.unit_to_si;
+        lo[i] = (u(rng) * 8.0 - 4.0) / a.unit_to_si;
+        hi[i] = lo[i] + width * (rng() % 4 == 0 ? 0.0 : 1.0);  // some axes fixed
+        c[i] = lo[i] + u(rng) * (hi[i] - lo[i]);
+      }
+    const double m = scale * bound.reach(0, lo, hi, c);
+    std::vector<double> q(p);
+    for (int s = 0; s < 200; ++s) {
+      for (std::size_t i = 0; i < p; ++i) {
+        const double t = s < 64 ? static_cast<double>((s >> (i % 6)) & 1) : u(rng);  // corners first
+        q[i] = lo[i] + t * (hi[i] - lo[i]);
+      }
+      const double d = moved(scene, c, q);
+      if (d > m) return false;
+      if (m > 0.0) worst = std::max(worst, d / m);
+    }
+  }
+  if (tightest) *tightest = worst;
+  return true;
+}
+
+TEST(BoxMotion, NoVertexMovesFartherThanTheBound) {
+  double tightest = 0.0;
+  EXPECT_TRUE(holds_everywhere(1.0, &tightest));
+  // The sampling comes near the bound somewhere (it is not vacuous).
+  EXPECT_GT(tightest, 0.5);
+}
+
+TEST(BoxMotion, AHalvedBoundFails) { EXPECT_FALSE(holds_everywhere(0.5)); }
+
+}  // namespace
+}  // namespace plancheck
