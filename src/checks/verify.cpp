@@ -121,7 +121,8 @@ bool same_search(const StateSeed::Search& last, const Affine& ta, const Affine& 
          same(p.upper_bound, q.upper_bound) && same(p.rel_tolerance, q.rel_tolerance) &&
          same(p.abs_tolerance, q.abs_tolerance) && p.seed_slot_a == q.seed_slot_a &&
          p.seed_slot_b == q.seed_slot_b && p.first_below == q.first_below &&
-         p.known_disjoint == q.known_disjoint && p.leaf_cull == q.leaf_cull;
+         p.known_disjoint == q.known_disjoint && p.leaf_cull == q.leaf_cull &&
+         p.tie_cull == q.tie_cull;
 }
 
 }  // namespace
