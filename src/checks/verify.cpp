@@ -4,6 +4,7 @@
 // plan_check.cpp; reports are written in src/output/.
 #include "src/checks/verify.h"
 #include "src/checks/built_ahead.h"
+#include "src/checks/pair_order.h"
 
 #include "src/base/error.h"
 #include "src/base/progress.h"
@@ -122,7 +123,8 @@ bool same_search(const StateSeed::Search& last, const Affine& ta, const Affine& 
          same(p.upper_bound, q.upper_bound) && same(p.rel_tolerance, q.rel_tolerance) &&
          same(p.abs_tolerance, q.abs_tolerance) && p.seed_slot_a == q.seed_slot_a &&
          p.seed_slot_b == q.seed_slot_b && p.first_below == q.first_below &&
-         p.known_disjoint == q.known_disjoint && p.leaf_cull == q.leaf_cull;
+         p.known_disjoint == q.known_disjoint && p.leaf_cull == q.leaf_cull &&
+         p.tie_cull == q.tie_cull;
 }
 
 }  // namespace
@@ -528,6 +530,8 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     std::vector<double> separation;  // per pair: proven lower bound at this state (m)
     std::vector<double> gap2;        // per pair: its boxes' gap, squared
     std::vector<std::uint32_t> touching;  // pairs whose boxes meet
+    std::vector<std::size_t> last_order, sorted;  // sort_by_key's start and scratch
+    std::vector<std::uint8_t> in_order;
   };
   static thread_local Scratch scratch;
   std::vector<Affine>& chains = scratch.chains;
@@ -806,7 +810,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     // (The full check sorts them all, as it always has: the order among
     // equal bounds decides which of equally close pairs is reported.)
     if (verdict_only && out.min_distance >= cutoff) beyond = std::min(beyond, lazy ? std::sqrt(skipped) : skipped);
-    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return lower[x] < lower[y]; });
+    sort_by_key(order, lower, scratch.last_order, scratch.in_order, scratch.sorted);
   }
   StateSeed hint;
   if (seed) {

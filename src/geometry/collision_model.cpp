@@ -59,6 +59,11 @@ std::size_t CollisionModel::memory_bytes() const {
 
 namespace {
 
+// Relative size of tight_box's rounding margin (Side::tight_box): 90 u,
+// against the 1e-12 (9,000 u) of the culling margins, so that a box gap
+// proves something at the scale of the tie tolerance (1e-12 m).
+constexpr double kTightRel = 1e-14;
+
 // One side of a query: its data, its map into the working frame and the
 // margin that covers rounding of that map.
 struct Side {
@@ -66,6 +71,9 @@ struct Side {
   bool identity = true;
   AffineMap map;
   double margin[3] = {0, 0, 0};
+  // The rounding margin of tight_box (0 for the identity; infinite when
+  // the map or the part's size is not finite, so nothing is proven).
+  double tight_margin[3] = {0, 0, 0};
 
   void set_map(const Affine& t) {
     identity = t.matrix() == Affine::Identity().matrix();
@@ -75,6 +83,40 @@ struct Side {
       // Node boxes are rounded outward to float: allow twice the vertex bound.
       for (int c = 0; c < 3; ++c) s += map.abs_l[3 * r + c] * 2.0 * data->max_abs[c];
       margin[r] = identity ? 0.0 : kMarginRel * s + 1e-300;
+      tight_margin[r] = identity ? 0.0 : std::isfinite(s) ? kTightRel * s + 1e-300 : std::numeric_limits<double>::infinity();
+    }
+  }
+
+  // A working-frame box holding every vertex of node's triangles exactly as
+  // triangle() computes it (so every triangle box of the leaves below).
+  // The identity: the node's float box, rounded outward from the stored
+  // doubles at build. Else the float box [lo, hi] mapped (Arvo: centre c,
+  // half extents h) and widened by tight_margin, which must cover, with
+  // u = 2^-53 and S = |t_r| + sum_c |l_rc| 2 max_abs_c (>= the same with
+  // |lo_c|, |hi_c| or a vertex's |x_c|): a vertex's own mapping (gamma_4 S),
+  // the rounding of c and h (u |lo_c + hi_c| / 2 and u (hi_c - lo_c) / 2
+  // each, 2 u S through |L|), the centre's mapping (gamma_4 S), the half
+  // extents' (gamma_3 S) and the two subtractions here (about 2 u S): about
+  // 14 u S, which kTightRel S = 90 u S covers six times over.
+  void tight_box(std::uint32_t node, double* lo, double* hi) const {
+    const BvhNode& n = data->bvh.nodes[node];
+    if (identity) {
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = static_cast<double>(n.lo[k]);
+        hi[k] = static_cast<double>(n.hi[k]);
+      }
+      return;
+    }
+    double c[3], h[3];
+    for (int k = 0; k < 3; ++k) {
+      c[k] = 0.5 * (static_cast<double>(n.lo[k]) + static_cast<double>(n.hi[k]));
+      h[k] = 0.5 * (static_cast<double>(n.hi[k]) - static_cast<double>(n.lo[k]));
+    }
+    for (int r = 0; r < 3; ++r) {
+      const double cr = map.l[3 * r] * c[0] + map.l[3 * r + 1] * c[1] + map.l[3 * r + 2] * c[2] + map.t[r];
+      const double hr = map.abs_l[3 * r] * h[0] + map.abs_l[3 * r + 1] * h[1] + map.abs_l[3 * r + 2] * h[2];
+      lo[r] = cr - hr - tight_margin[r];
+      hi[r] = cr + hr + tight_margin[r];
     }
   }
 
@@ -706,6 +748,7 @@ struct DistanceQuery {
   bool dir_set = false;
   std::uint32_t dir_gen = 0;
   bool leaf_cull = true;  // DistanceRequest::leaf_cull
+  bool tie_cull = true;   // DistanceRequest::tie_cull
   // The leaf last tested against the other side's boxes, per side (as in
   // OverlapQuery; distance() resets them after its collision pass).
   LeafPlanes& planes_a = t_planes[0];
@@ -775,6 +818,30 @@ struct DistanceQuery {
     return std::max(forward, s.reverse_lower2(ia, ib)) * kShrink;
   }
 
+  // True when no triangle pair under node pair (ia, ib) can reach the
+  // kernel: once a pair is found, leaves() settles a triangle pair only
+  // after its test on the two triangle boxes (box_distance_squared times
+  // kShrink against best2_, which only falls). The tight boxes hold those
+  // triangle boxes, and box_distance_squared is non-decreasing in each
+  // gap (a difference, its maximum with 0, a square, a sum: each rounded
+  // monotonically), so a gap of the node boxes that passes the test proves
+  // that every triangle pair below would be skipped there: dropping the
+  // node pair changes neither the answer nor the order of the rest. Unlike
+  // the node bounds (lower2), whose rounding tolerances are 1e-12 of the
+  // parts' size, these boxes err by 1e-14 of it, so they settle pairs tied
+  // with the best within the tie tolerance: parallel faces at one distance
+  // (the arm's base over the deck), whose search otherwise visits every
+  // node pair along the faces to find nothing. Before a pair is found (the
+  // probe of leaves() settles a pair without the box test) nothing is
+  // dropped. NaN anywhere fails the comparison: nothing is dropped.
+  bool box_settled(std::uint32_t ia, std::uint32_t ib) const {
+    if (!found || !tie_cull) return false;
+    double alo[3], ahi[3], blo[3], bhi[3];
+    s.a.tight_box(ia, alo, ahi);
+    s.b.tight_box(ib, blo, bhi);
+    return box_distance_squared(alo, ahi, blo, bhi) * kShrink >= best2_;
+  }
+
   // (best + kernel_slack)^2 rounded up to float: a float bound at or above
   // it proves the pair cannot improve on best.
   float float_cut2() const {
@@ -783,6 +850,8 @@ struct DistanceQuery {
   }
 
   bool leaves(const Pair& p) {
+    // Pushed when the best was farther: it may be settled now.
+    if (box_settled(p.a, p.b)) return true;
     const BvhNode& x = na[p.a];
     const BvhNode& y = nb[p.b];
     // SIMD float lower bounds first, on the stored float triangles
@@ -954,6 +1023,8 @@ struct DistanceQuery {
   }
 
   int split(const Pair& p, Pair* kids) {
+    // Pushed when the best was farther: it may be settled now.
+    if (box_settled(p.a, p.b)) return 0;
     const BvhNode& x = na[p.a];
     const BvhNode& y = nb[p.b];
     double sizes[2];
@@ -971,15 +1042,22 @@ struct DistanceQuery {
         s.map_b(p.b, mb);
         shared = &mb;
       }
-      kids[0] = {x.index, p.b, lower2(x.index, p.b, nullptr, shared)};
-      kids[1] = {x.index + 1, p.b, lower2(x.index + 1, p.b, nullptr, shared)};
+      kids[0] = {x.index, p.b, child_lower2(x.index, p.b, shared)};
+      kids[1] = {x.index + 1, p.b, child_lower2(x.index + 1, p.b, shared)};
     } else {
-      kids[0] = {p.a, y.index, lower2(p.a, y.index, nullptr)};
-      kids[1] = {p.a, y.index + 1, lower2(p.a, y.index + 1, nullptr)};
+      kids[0] = {p.a, y.index, child_lower2(p.a, y.index, nullptr)};
+      kids[1] = {p.a, y.index + 1, child_lower2(p.a, y.index + 1, nullptr)};
     }
     if (s.obb && leaf_cull && std::isfinite(best))
       for (int k = 0; k < 2; ++k) cull_leaf(kids[k]);
     return 2;
+  }
+
+  // A child's lower2, or infinity (never pushed) when box_settled drops it:
+  // of the two children only the kept one is pushed, in its place.
+  double child_lower2(std::uint32_t ia, std::uint32_t ib, Setup::MappedB* mb) const {
+    if (box_settled(ia, ib)) return std::numeric_limits<double>::infinity();
+    return lower2(ia, ib, nullptr, mb);
   }
 
   // A leaf against the other side's inner node, as in the collision
@@ -1105,6 +1183,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   }
   q.first_below = request.first_below;
   q.leaf_cull = request.leaf_cull;
+  q.tie_cull = request.tie_cull;
   t_planes[0].node = t_planes[1].node = std::numeric_limits<std::uint32_t>::max();
   if (!(q.found && q.first_below)) {
     // Exact with nothing to start from (the first pair found would set the

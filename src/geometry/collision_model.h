@@ -98,6 +98,11 @@ struct DistanceRequest {
   // (CollideRequest::leaf_cull), here beyond the best distance: the same
   // answer either way; false only for the tests that show it.
   bool leaf_cull = true;
+  // The descent's cull, once a pair is found, of node pairs whose every
+  // triangle pair the leaves' own triangle-box test would skip (tight node
+  // boxes, collision_model.cpp): what keeps ties of parallel faces cheap.
+  // The same answer either way; false only for the tests that show it.
+  bool tie_cull = true;
 };
 
 struct DistanceResult {

@@ -271,6 +271,20 @@ void collide_with_and_without(const CollisionModel& a, const Affine& ta, const C
   }
 }
 
+// distance() with request q and with q's `cull` off: the same answer bit
+// for bit, never more node pairs with it. True when the cull dropped any.
+bool distance_with_and_without(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+                               const DistanceRequest& q, bool DistanceRequest::*cull) {
+  DistanceRequest qs = q;
+  qs.*cull = false;
+  DistanceResult df, ds;
+  distance(a, ta, b, tb, q, df);
+  distance(a, ta, b, tb, qs, ds);
+  EXPECT_TRUE(testing::same_answer(df, ds));
+  EXPECT_LE(df.node_pairs_visited, ds.node_pairs_visited);
+  return df.node_pairs_visited < ds.node_pairs_visited;
+}
+
 // The axis-aligned cull of the rigid-rigid descent (CollideRequest::box_cull)
 // against the descent without it: the same flag, the same listing in the
 // same order at every limit, the same contact bit for bit, never more node
@@ -364,14 +378,8 @@ TEST(CollisionModel, LeafCullChangesNoListingOrContact) {
       if (kind > 0) qf.upper_bound = 0.25;
       if (kind == 2) qf.abs_tolerance = 1e-6;
       qf.first_below = kind == 3;
-      DistanceRequest qs = qf;
-      qs.leaf_cull = false;
-      DistanceResult df, ds;
-      distance(a, ta, b, tb, qf, df);
-      distance(a, ta, b, tb, qs, ds);
-      ASSERT_TRUE(testing::same_answer(df, ds));
-      ASSERT_LE(df.node_pairs_visited, ds.node_pairs_visited);
-      culled_distance += df.node_pairs_visited < ds.node_pairs_visited;
+      culled_distance += distance_with_and_without(a, ta, b, tb, qf, &DistanceRequest::leaf_cull);
+      if (::testing::Test::HasFailure()) return;
     }
   };
   for (const Case& c : cases) {
@@ -469,6 +477,139 @@ TEST(CollisionModel, LeafCullDropsNothingOnNonFinitePoses) {
   // The descent without the cull reports contacts on some of these poses:
   // the comparison would see a cull that dropped them.
   EXPECT_GT(slow_collides, 0);
+}
+
+// A closed box of half extents h centred at c whose six faces are each an
+// n x n grid of squares (two triangles each): flat faces of many triangles,
+// so a face parallel to another at one distance ties n^2 triangle pairs.
+Mesh make_grid_box(const Vec3& c, const Vec3& h, int n) {
+  Mesh m;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = -1; side <= 1; side += 2) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const std::uint32_t first = static_cast<std::uint32_t>(m.vertices.size());
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+          Vec3 x = c;
+          x[axis] += side * h[axis];
+          x[u] += h[u] * (2.0 * i / n - 1.0);
+          x[v] += h[v] * (2.0 * j / n - 1.0);
+          m.vertices.push_back(x);
+        }
+      const auto at = [&](int i, int j) { return first + static_cast<std::uint32_t>(i * (n + 1) + j); };
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+          m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+        }
+    }
+  return m;
+}
+
+// The cull of node pairs whose triangle pairs the leaves' triangle-box test
+// would all skip (DistanceRequest::tie_cull) against the search without it:
+// the same answer bit for bit (distance, triangles, slots, points), never
+// more node pairs. Ties of parallel faces, as the arm's base over the deck:
+// a block over a slab, both of finely gridded faces, turned about the
+// slab's normal and slid over it at gaps of 0.11 m to 1e-3 m, the pair
+// placed at random (near the origin and at lunar-radius offsets), either
+// part as a; searched with no bound, with the tie tolerance, seeded from
+// the answer at a nearby turn (as a plan's states seed each other), below
+// an upper bound just above the distance (within the tie tolerance: a
+// search that has found nothing must not drop what its probe would
+// settle), as a first-below question and as the coarse pass asks. Then
+// curved parts at random poses, where the cull has little to do.
+TEST(CollisionModel, TieCullChangesNoDistance) {
+  const Vec3 moon(1.2e6, -0.9e6, 0.7e6);
+  // Dyadic coordinates: exact in float, as a 3DS model's are, so the node
+  // boxes (rounded outward to float) are the faces' own planes, and the cull
+  // can settle the ties (a float box rounded out by up to 6e-8 of a
+  // coordinate proves nothing at the scale of the tie tolerance).
+  const Mesh slab = make_grid_box(Vec3::Zero(), Vec3(1.25, 0.875, 0.0625), 16);
+  const Mesh block = make_grid_box(Vec3(0.125, -0.0625, 0.0), Vec3(0.15625, 0.125, 0.1875), 8);
+  const CollisionModel deck(slab), arm(block);
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int searches = 0, culled = 0, ties = 0;
+  const auto compare = [&](const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+                           const DistanceRequest& q) {
+    culled += distance_with_and_without(a, ta, b, tb, q, &DistanceRequest::tie_cull);
+    ++searches;
+  };
+  // All the requests above for one pose; `seed` from a nearby pose.
+  const auto requests = [&](const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+                            const DistanceResult& seed) {
+    DistanceResult exact;
+    distance(a, ta, b, tb, DistanceRequest{}, exact);
+    ASSERT_TRUE(exact.found);
+    for (int kind = 0; kind < 7; ++kind) {
+      SCOPED_TRACE("request kind " + std::to_string(kind));
+      DistanceRequest q;
+      if (kind >= 1) q.abs_tolerance = 1e-12;
+      if (kind == 2 || kind == 3) {
+        q.seed_slot_a = seed.slot_a;
+        q.seed_slot_b = seed.slot_b;
+      }
+      if (kind == 3) q.upper_bound = exact.distance * 1.5;
+      if (kind == 4) q.upper_bound = exact.distance + 0.5e-12;
+      if (kind == 5) {
+        q.upper_bound = exact.distance * 1.001;
+        q.first_below = true;
+      }
+      if (kind == 6) q.rel_tolerance = 4.0;
+      compare(a, ta, b, tb, q);
+      if (::testing::Test::HasFailure()) return;
+    }
+  };
+  for (int i = 0; i < testing::case_count(40, 8); ++i) {
+    const Affine world = random_rigid(rng, i % 2 == 0 ? Vec3::Zero() : moon, 0.0);
+    const double gap = i % 3 == 0 ? 0.11 : i % 3 == 1 ? 0.05 : 1e-3;
+    const Vec3 slide(0.6 * u(rng), 0.5 * u(rng), 0.0625 + gap + 0.1875);
+    const double turn = 3.14159 * u(rng);
+    const auto placed = [&](double angle) {
+      Affine t = Affine::Identity();
+      t.linear() = Eigen::AngleAxisd(angle, Vec3::UnitZ()).toRotationMatrix();
+      t.translation() = slide;
+      return world * t;
+    };
+    const Affine tb = placed(turn);
+    for (int order = 0; order < 2; ++order) {
+      SCOPED_TRACE("pose " + std::to_string(i) + " order " + std::to_string(order));
+      const CollisionModel& a = order == 0 ? deck : arm;
+      const CollisionModel& b = order == 0 ? arm : deck;
+      const Affine& pa = order == 0 ? world : tb;
+      const Affine& pb = order == 0 ? tb : world;
+      // The seed: the answer at a slightly smaller turn.
+      DistanceResult seed;
+      DistanceRequest tie;
+      tie.abs_tolerance = 1e-12;
+      if (order == 0)
+        distance(a, world, b, placed(turn - 1e-3), tie, seed);
+      else
+        distance(a, placed(turn - 1e-3), b, world, tie, seed);
+      requests(a, pa, b, pb, seed);
+      if (::testing::Test::HasFailure()) return;
+      ++ties;
+    }
+  }
+  const Mesh sphere = testing::make_sphere(Vec3::Zero(), 0.5, 12, 18);
+  const Mesh torus = testing::make_torus(Vec3::Zero(), 0.8, 0.2, 24, 12);
+  const CollisionModel ball(sphere), ring(torus);
+  for (int i = 0; i < testing::case_count(60, 12); ++i) {
+    SCOPED_TRACE("curved pose " + std::to_string(i));
+    const Affine ta = random_rigid(rng, i % 2 == 0 ? Vec3::Zero() : moon, 0.0);
+    const Affine tb = random_rigid(rng, i % 2 == 0 ? Vec3::Zero() : moon, 2.5);
+    DistanceResult seed;
+    distance(ball, ta, ring, random_rigid(rng, i % 2 == 0 ? Vec3::Zero() : moon, 2.5), DistanceRequest{}, seed);
+    DistanceResult probe;
+    distance(ball, ta, ring, tb, DistanceRequest{}, probe);
+    if (!(probe.distance > 0.0)) continue;  // touching: nothing to search
+    requests(ball, ta, ring, tb, seed);
+    if (::testing::Test::HasFailure()) return;
+  }
+  // The cull at work, for the comparison to mean something.
+  EXPECT_EQ(ties, 2 * testing::case_count(40, 8));
+  EXPECT_GT(culled, searches / 4);
 }
 
 // An exact search with nothing to start from runs best-first until its
