@@ -168,8 +168,10 @@ CollisionModelData build_collision_data(const Mesh& mesh) {
     // Node bounds are floats; keep every coordinate far inside float range.
     if (mesh.vertices[i].cwiseAbs().maxCoeff() > 1e30)
       throw InputError("collision model: vertex " + std::to_string(i) + " is beyond 1e30 m");
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < 3; ++k) {
       data.max_abs[k] = std::max(data.max_abs[k], std::abs(mesh.vertices[i][k]));
+      if (static_cast<double>(static_cast<float>(mesh.vertices[i][k])) != mesh.vertices[i][k]) data.float_exact = false;
+    }
   }
   const std::size_t nt = mesh.triangles.size();
   if (nt > std::numeric_limits<std::uint32_t>::max() / 2)

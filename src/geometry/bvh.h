@@ -88,6 +88,11 @@ struct CollisionModelData {
   }
   // max over vertices of |x|, |y|, |z| per axis: sizes rounding margins.
   std::array<double, 3> max_abs = {0, 0, 0};
+  // Every vertex coordinate is a float: node boxes are then exact, and the
+  // distance search's tie cull (DistanceRequest::tie_cull) can settle ties;
+  // else the float boxes' outward rounding is far above a tie and the cull
+  // only costs time (collision_model.cpp, box_settled).
+  bool float_exact = true;
   std::vector<NodeObb> obbs;  // one per bvh node, same index
   // The triangles again as floats for the SIMD leaf prefilters
   // (kernels/leaf_bounds.h): coordinate c (= 3 v + k) of slot s at

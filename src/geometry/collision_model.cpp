@@ -1183,7 +1183,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   }
   q.first_below = request.first_below;
   q.leaf_cull = request.leaf_cull;
-  q.tie_cull = request.tie_cull;
+  q.tie_cull = request.tie_cull && s.a.data->float_exact && s.b.data->float_exact;
   t_planes[0].node = t_planes[1].node = std::numeric_limits<std::uint32_t>::max();
   if (!(q.found && q.first_below)) {
     // Exact with nothing to start from (the first pair found would set the
