@@ -68,7 +68,9 @@ VerifyArgs verify_args_from_setup(const std::string& text, const std::filesystem
     a.continuous_tolerance = s.at("continuous_tolerance").get<double>();
     a.verdict_only = s.at("verdict_only").get<bool>();
     a.html = s.at("html").get<bool>();
-    a.html_plans.closest = s.at("html_plans").at("closest").get<std::size_t>();
+    const Json& closest = s.at("html_plans").at("closest");
+    if (!closest.is_number_unsigned()) fail(file, "its verify setup is not readable (corrupt)");
+    a.html_plans.closest = closest.get<std::size_t>();
     a.html_plans.names = s.at("html_plans").at("names").get<std::vector<std::string>>();
     a.json = s.at("json").get<bool>();
   } catch (const nlohmann::json::exception&) {

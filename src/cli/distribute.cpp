@@ -148,16 +148,22 @@ Scan scan_file(const std::filesystem::path& file) {
   }
   try {
     const Json h = Json::parse(line);
+    // A count as the writer writes it: a non-negative integer. nlohmann's
+    // get<std::size_t> casts 1e39 or -1 (undefined behaviour, or a wrap).
+    auto count = [](const Json& v) {
+      if (!v.is_number_unsigned()) throw std::invalid_argument("not a count");
+      return v.get<std::size_t>();
+    };
     s.header.command = h.at("command").get<std::string>();
     s.header.fingerprint = h.at("fingerprint").get<std::string>();
     s.header.setup = h.at("setup").get<std::string>();
     if (!h.at("shard").is_null()) {
       s.has_shard = true;
-      s.header.shard = Shard{h.at("shard").at(0).get<std::size_t>(), h.at("shard").at(1).get<std::size_t>()};
+      s.header.shard = Shard{count(h.at("shard").at(0)), count(h.at("shard").at(1))};
     }
-    s.header.items = h.at("items").get<std::size_t>();
-    s.header.begin = h.at("range").at(0).get<std::size_t>();
-    s.header.end = h.at("range").at(1).get<std::size_t>();
+    s.header.items = count(h.at("items"));
+    s.header.begin = count(h.at("range").at(0));
+    s.header.end = count(h.at("range").at(1));
   } catch (const std::exception&) {
     s.problem = "its header is not a plancheck partial header";
     return s;
