@@ -594,7 +594,11 @@ SweepArgs sweep_args_from_setup(const std::string& text, const std::filesystem::
   try {
     const Json s = Json::parse(text);
     get_scene_setup(s, a.scene, a.scene_options);
-    if (!s.at("steps").is_null()) a.steps = s.at("steps").get<long>();
+    if (!s.at("steps").is_null()) {
+      // An integer as written: get<long> would cast 1e39 (undefined behaviour).
+      if (!s.at("steps").is_number_integer()) fail(file, "its sweep setup is not readable (corrupt)");
+      a.steps = s.at("steps").get<long>();
+    }
     if (!s.at("grid").is_null()) a.grid = s.at("grid").get<std::string>();
     a.csv = s.at("csv").get<bool>();
     a.exact_distance = s.at("exact_distance").get<bool>();
