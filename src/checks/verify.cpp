@@ -546,19 +546,18 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     if (chain_of_[i] >= 0) {
       pose[i] = &chains[static_cast<std::size_t>(chain_of_[i])];
       box[i] = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *pose[i]);
+      // A pose past the range of doubles (a translation or factor
+      // overflowing, a non-finite parameter) leaves no distance to settle:
+      // NaN would defeat every pruning test and the search would visit every
+      // triangle pair. It is refused, never checked and never "safe".
+      if (!(box[i].lo.allFinite() && box[i].hi.allFinite()))
+        throw InputError("a configuration poses part '" + names_[i] +
+                         "' beyond the range of doubles (a parameter or what it moves is not finite)");
     } else {
       pose[i] = &placement_[i];
       box[i] = {static_boxes_[i].first, static_boxes_[i].second};
     }
   }
-  // A pose past the range of doubles (a translation or factor overflowing,
-  // a non-finite parameter) leaves no distance to settle: NaN would defeat
-  // every pruning test and the search would visit every triangle pair. It
-  // is refused, never checked and never "safe".
-  for (std::size_t i = 0; i < n; ++i)
-    if (chain_of_[i] >= 0 && !(box[i].lo.allFinite() && box[i].hi.allFinite()))
-      throw InputError("a configuration poses part '" + names_[i] +
-                       "' beyond the range of doubles (a parameter or what it moves is not finite)");
 
   // The terrain's box: its pyramid's root, padded as a static part's box.
   Box terrain_box;
