@@ -307,5 +307,49 @@ TEST(Distribute, AHeaderClaimingABillionShardsCostsAShortMessage) {
   std::filesystem::remove_all(dir);
 }
 
+
+// A header's counts as the writer writes them: non-negative integers. A
+// count of 1e39, -1, 2.5 or "3" is refused with the header's message (it
+// was once cast to size_t: undefined behaviour), the item range too.
+TEST(Distribute, AHeaderCountThatIsNoCountIsRefusedByName) {
+  const auto dir = scratch("counts");
+  const std::vector<std::uint64_t> w(4, 1);
+  DistOptions o = toy_options(dir);
+  o.shard = Shard{0, 1};
+  run_items(o, w, toy_blobs, [](std::size_t, std::string_view) {});
+  const std::filesystem::path file = partial_path(dir, *o.shard);
+  std::ifstream in(file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  in.close();
+  ASSERT_NO_THROW(open_partials({dir}));
+  const std::size_t h0 = bytes.find('\n') + 1, h1 = bytes.find('\n', h0);
+  const std::string header = bytes.substr(h0, h1 - h0);
+  for (const std::string field : {"\"items\":4", "\"range\":[0,4]", "\"shard\":[0,1]"}) {
+    ASSERT_NE(header.find(field), std::string::npos) << header;
+    for (const std::string bad : {"1e39", "-1", "2.5", "\"3\"", "null"}) {
+      std::string lie = field;
+      // The field's first number replaced by the bad value.
+      const std::size_t at = field.find_first_of("0123456789");
+      const std::size_t len = field.find_first_not_of("0123456789", at) == std::string::npos
+                                  ? field.size() - at
+                                  : field.find_first_not_of("0123456789", at) - at;
+      lie.replace(at, len, bad);
+      std::string changed = header;
+      changed.replace(changed.find(field), field.size(), lie);
+      std::ofstream(file, std::ios::binary | std::ios::trunc)
+          << bytes.substr(0, h0) << changed << bytes.substr(h1);
+      try {
+        open_partials({dir});
+        ADD_FAILURE() << lie << " was accepted";
+      } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("not a plancheck partial header"), std::string::npos) << lie << ": " << what;
+        EXPECT_NE(what.find(file.filename().string()), std::string::npos) << what;
+      }
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace plancheck
