@@ -838,7 +838,11 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // empty when no coarse pass ran).
   std::vector<double>& coarse_bound = scratch.coarse;
   coarse_bound.clear();
-  if (!out.collision && !usable(hint) && request.rel_tolerance < kProbeTolerance && !verdict_only) {
+  // With one pair to search there is nothing to order or prune: the coarse
+  // search would only precede the exact one (a scene of two meshes, one
+  // moving: 1.5x the pair's own query).
+  if (!out.collision && !usable(hint) && request.rel_tolerance < kProbeTolerance && !verdict_only &&
+      order.size() > 1) {
     coarse_bound.assign(pairs_.size(), 0.0);
     // A cold start (no previous state's pair to try first). Part boxes order
     // the pairs poorly, and every pair searched under a loose bound costs

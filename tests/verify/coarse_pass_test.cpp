@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <random>
@@ -70,6 +71,52 @@ TEST(CoarsePass, ColdMinimumIsTheSmallestPairDistance) {
   }
   // Enough states apart that the comparison means something.
   EXPECT_GT(apart, n / 2);
+}
+
+
+// One checked pair (a scene of two meshes, one moving: no coarse pass runs,
+// there is nothing to order): the state's answer is still the pair's own
+// exact search, on cold states near and far, and its points are that far
+// apart.
+TEST(CoarsePass, OnePairSceneMinimumIsThePairsDistance) {
+  const testing::TempDir dir("one-pair");
+  auto join = [](Mesh a, const Mesh& b) {
+    const auto base = static_cast<std::uint32_t>(a.vertices.size());
+    a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
+    for (Tri t : b.triangles) a.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    return a;
+  };
+  // An L of two boxes (not convex) and a bar that moves and turns over it.
+  const Mesh env = join(testing::box_mesh({-1, -1, -0.2}, {1, 1, 0}), testing::box_mesh({-1, -1, 0}, {-0.6, 1, 1}));
+  const Mesh bar = join(testing::box_mesh({-0.5, -0.05, -0.05}, {0.5, 0.05, 0.05}), testing::box_mesh({0.4, -0.05, 0.05}, {0.5, 0.05, 0.4}));
+  testing::write_obj(dir / "two.obj", {{"Env", env}, {"Bar", bar}});
+  dir.write("scene.json", R"({"format": "plancheck-scene/1", "model": "two.obj", "length_unit": "m", "angle_unit": "deg",
+    "actions": [{"name": "T", "node": "Bar", "type": "translate", "limits": [-1.5, 1.5]},
+                {"name": "R", "node": "Bar", "type": "rotate", "pivot": [0, 0, 0], "axis": [0.3, 0.4, 1], "limits": [-180, 180]}]})");
+  const Scene scene = load_scene(dir / "scene.json");
+  const Checker checker(scene);
+  ASSERT_EQ(checker.pairs().size(), 1u);
+  std::mt19937_64 rng(20261128);
+  PosedParts posed;
+  int apart = 0;
+  const int n = testing::case_count(400, 40);
+  for (int i = 0; i < n; ++i) {
+    const std::vector<double> p = testing::random_state(scene, rng, 0.0);
+    const std::string at = "cold state " + std::to_string(i);
+    StateResult got;
+    checker.check_state(p, got, row_request());
+    checker.pose_parts(p, posed);
+    ASSERT_EQ(got.collision, checker.pair_collides(posed, 0)) << at;
+    if (got.collision) continue;
+    ++apart;
+    PairAnswer a;
+    checker.pair_distance(posed, 0, std::numeric_limits<double>::infinity(), a);
+    ASSERT_TRUE(a.exact) << at;
+    EXPECT_NEAR(got.min_distance, a.distance, 2 * kDistanceTieTolerance) << at;
+    EXPECT_NEAR((got.point_a - got.point_b).norm(), got.min_distance, 1e-12) << at;
+    if (HasFailure()) return;
+  }
+  EXPECT_GT(apart, n / 4);
 }
 
 }  // namespace
