@@ -13,6 +13,7 @@
 #include "bench/random_states.h"
 #include "bench/timing.h"
 #include "src/base/error.h"
+#include "src/base/files.h"
 #include "src/checks/verify.h"
 #include "src/geometry/collision_model.h"
 
@@ -22,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <limits>
@@ -142,6 +144,60 @@ Mesh dented_ellipsoid() {
   return m;
 }
 
+namespace {
+
+// A mesh as Wavefront OBJ, coordinates to the last bit (%.17g).
+std::string obj_text(const Mesh& m, const char* name) {
+  std::string out = std::string("o ") + name + "\n";
+  char line[128];
+  for (const Vec3& v : m.vertices) {
+    std::snprintf(line, sizeof line, "v %.17g %.17g %.17g\n", v.x(), v.y(), v.z());
+    out += line;
+  }
+  for (const auto& t : m.triangles) {
+    std::snprintf(line, sizeof line, "f %u %u %u\n", static_cast<unsigned>(t[0]) + 1, static_cast<unsigned>(t[1]) + 1,
+                  static_cast<unsigned>(t[2]) + 1);
+    out += line;
+  }
+  return out;
+}
+
+// The two meshes as a robot: the torus fixed to the world link, the object
+// on a free-floating chain (prismatic x, y, z over the poses' box, then
+// revolute z, y, x through all of [-pi, pi]), so that `plancheck bench
+// DIR/two_mesh.urdf --random N` draws poses of this case and runs them
+// through the state path: as a cold batch and written as one plan through
+// verify_plans. Its rotations are uniform Euler angles, not Shoemake's
+// uniform rotations: the same kind of case, not the same poses.
+void write_urdf(const std::filesystem::path& dir, const Mesh& env, const Mesh& object, const Vec3& lo,
+                const Vec3& hi) {
+  std::filesystem::create_directories(dir);
+  write_file_atomically(dir / "env.obj", obj_text(env, "env"));
+  write_file_atomically(dir / "object.obj", obj_text(object, "object"));
+  std::string u = "<?xml version=\"1.0\"?>\n<robot name=\"two_mesh\">\n";
+  u += "  <link name=\"env\"><collision><geometry><mesh filename=\"env.obj\"/></geometry></collision></link>\n";
+  const char* links[] = {"tx", "ty", "tz", "rz", "ry", "rx"};
+  for (const char* l : links) u += std::string("  <link name=\"") + l + "_link\"/>\n";
+  u += "  <link name=\"object\"><collision><geometry><mesh filename=\"object.obj\"/></geometry></collision></link>\n";
+  const char* axes[] = {"1 0 0", "0 1 0", "0 0 1", "0 0 1", "0 1 0", "1 0 0"};
+  char buf[512];
+  for (int j = 0; j < 6; ++j) {
+    const std::string parent = j == 0 ? "env" : std::string(links[j - 1]) + "_link";
+    const bool slide = j < 3;
+    const double lower = slide ? lo[j] : -kPi, upper = slide ? hi[j] : kPi;
+    std::snprintf(buf, sizeof buf,
+                  "  <joint name=\"%s\" type=\"%s\"><parent link=\"%s\"/><child link=\"%s_link\"/>"
+                  "<axis xyz=\"%s\"/><limit lower=\"%.17g\" upper=\"%.17g\" effort=\"1\" velocity=\"1\"/></joint>\n",
+                  links[j], slide ? "prismatic" : "revolute", parent.c_str(), links[j], axes[j], lower, upper);
+    u += buf;
+  }
+  u += "  <joint name=\"fixed\" type=\"fixed\"><parent link=\"rx_link\"/><child link=\"object\"/></joint>\n";
+  u += "</robot>\n";
+  write_file_atomically(dir / "two_mesh.urdf", u);
+}
+
+}  // namespace
+
 int run_two_mesh(int argc, char** argv) {
   CLI::App app{"plancheck_bench two_mesh: one small mesh at random rigid poses over another, beside FCL"};
   std::string json_file;
@@ -155,6 +211,10 @@ int run_two_mesh(int argc, char** argv) {
   app.add_option("--fcl-repetitions", fcl_reps, "timed repetitions of FCL (median)")->check(CLI::PositiveNumber);
   app.add_option("--json", json_file, "also write the results as JSON here");
   app.add_flag("--fcl", fcl_flag, "accepted for symmetry with table3: FCL always runs here");
+  std::string urdf_dir;
+  app.add_option("--write-urdf", urdf_dir,
+                 "write the two meshes as DIR/two_mesh.urdf (a free-floating object over the fixed torus) and stop; "
+                 "`plancheck bench DIR/two_mesh.urdf --random N --fcl` then times the state and plan paths");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -167,6 +227,11 @@ int run_two_mesh(int argc, char** argv) {
     // Poses over the torus's box grown by the object's reach, as FCL's tests
     // draw theirs within an extent box around the environment.
     const Vec3 lo(-4.6, -4.6, -1.8), hi(4.6, 4.6, 1.8);
+    if (!urdf_dir.empty()) {
+      write_urdf(urdf_dir, env_mesh, object_mesh, lo, hi);
+      std::cerr << "two_mesh: wrote " << (std::filesystem::path(urdf_dir) / "two_mesh.urdf").string() << "\n";
+      return 0;
+    }
     std::mt19937_64 rng(seed);
     std::vector<Affine> poses;
     for (std::size_t i = 0; i < poses_count; ++i) poses.push_back(random_pose(rng, lo, hi));
