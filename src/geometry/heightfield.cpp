@@ -278,6 +278,11 @@ namespace {
 
 constexpr int kLeafTris = 2 * Heightfield::kLeafCells * Heightfield::kLeafCells;
 constexpr int kLeafSamples = (Heightfield::kLeafCells + 1) * (Heightfield::kLeafCells + 1);
+// A leaf block's triangles in the float prefilter: two views of at most
+// kLeafLanes each (slots 0..15 and 16..31), stride kLeafTris, so a full
+// register load at either stays inside the 9 rows.
+constexpr std::size_t kTerrainSoaStride = kLeafTris;
+static_assert(kLeafTris == 2 * kLeafLanes, "a leaf block is two prefilter views");
 
 // A leaf pair's triangles (part, terrain) and their boxes (HfQuery::leaf_triangles).
 struct LeafTriangles {
@@ -301,6 +306,14 @@ struct HfQuery {
   // Culling in the reference frame: the part's pose and its rounding margin.
   AffineMap pose;
   double cull_margin[3] = {0, 0, 0};
+  // Both sides for the float leaf prefilter (kernels/leaf_bounds.h): the
+  // part's stored SoA, the terrain's built per leaf (terrain_soa); their
+  // maps into the working frame and sizes as collision_model.cpp's
+  // Side::leaf_side. kernel_slack as there: the double kernel's value for a
+  // pair lies within it of the pair's exact distance.
+  LeafSide side_p, side_t;
+  double kernel_slack = 0.0;
+  const LeafKernels& kernels = leaf_kernels();
 
   void setup(const CollisionModel& a, const Affine& ta, const Heightfield& t) {
     part = &a.data();
@@ -323,6 +336,54 @@ struct HfQuery {
       for (int c = 0; c < 3; ++c) s += pose.abs_l[3 * r + c] * 2.0 * part->max_abs[c];
       cull_margin[r] = kMarginRel * s + 1e-300;
     }
+    // The terrain's largest coordinates: its root block holds every vertex
+    // of a valid cell.
+    const int root = static_cast<int>(t.levels().size()) - 1;
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    t.block_box(root, 0, 0, lo, hi);
+    const double terrain_abs[3] = {std::max(std::abs(lo[0]), std::abs(hi[0])),
+                                   std::max(std::abs(lo[1]), std::abs(hi[1])),
+                                   std::max(std::abs(lo[2]), std::abs(hi[2]))};
+    side_p = leaf_side(part->soa.data(), part->soa_stride, map_part ? &part_map : nullptr, part->max_abs.data());
+    side_t = leaf_side(nullptr, kTerrainSoaStride, map_terrain ? &terrain_map : nullptr, terrain_abs);
+    kernel_slack = 1e-13 * std::max(side_p.size, side_t.size) + 1e-300;
+  }
+
+  // A side mapped by m (nullptr: the identity), its coordinates at most
+  // max_abs per axis: size >= |l v| + |t| per coordinate.
+  static LeafSide leaf_side(const float* soa, std::size_t stride, const AffineMap* m, const double* max_abs) {
+    double size = 0.0;
+    for (int r = 0; r < 3; ++r) {
+      double row = m ? std::abs(m->t[r]) : max_abs[r];
+      if (m)
+        for (int c = 0; c < 3; ++c) row += m->abs_l[3 * r + c] * max_abs[c];
+      size = std::max(size, row);
+    }
+    return make_leaf_side(soa, stride, m ? m->l : nullptr, m ? m->t : nullptr, size * (1.0 + 1e-6));
+  }
+
+  // The float SoA of leaf block (bx, by)'s triangles in terrain_triangles'
+  // order (store_leaf_soa, reference frame, relative to the centre of the
+  // block box rounded outward to float, which lo, hi get); returns how many.
+  int terrain_soa(int bx, int by, float* soa, float* lo, float* hi) const {
+    double blo[3], bhi[3];
+    if (!hf->block_box(0, bx, by, blo, bhi)) return 0;
+    for (int k = 0; k < 3; ++k) lo[k] = round_down(blo[k]), hi[k] = round_up(bhi[k]);
+    double tri[kLeafTris][9];
+    const int L = Heightfield::kLeafCells;
+    const int c0 = bx * L, r0 = by * L;
+    const int c1 = std::min(c0 + L, hf->cell_cols()), r1 = std::min(r0 + L, hf->cell_rows());
+    int n = 0;
+    for (int r = r0; r < r1; ++r)
+      for (int c = c0; c < c1; ++c)
+        if (hf->cell_valid(c, r))
+          for (int k = 0; k < 2; ++k) hf->cell_triangle(c, r, k, tri[n++]);
+    store_leaf_soa(soa, kTerrainSoaStride, 0, n, lo, hi,
+                   [&](std::uint32_t t, int v) -> const double* { return tri[t] + 3 * v; });
+    // Lanes past n that a register load reads: defined, and ignored.
+    const int end = (n + kLeafLanes - 1) / kLeafLanes * kLeafLanes;
+    for (std::size_t c = 0; c < 9; ++c) std::fill(soa + c * kTerrainSoaStride + n, soa + c * kTerrainSoaStride + end, 0.0f);
+    return n;
   }
 
   // The part node's reference-frame box (Arvo), widened by cull_margin.
@@ -565,15 +626,17 @@ struct HfDistance {
   bool leaf_pair(const Pair& p) const { return q.part->bvh.nodes[p.node].is_leaf() && p.level == 0; }
 
   // The kernel on one triangle pair (part slot, dem_mesh index).
-  void consider(const double* p, const double* t, std::uint32_t slot, std::uint32_t tri) {
+  // True when it improved the best.
+  bool consider(const double* p, const double* t, std::uint32_t slot, std::uint32_t tri) {
     Vec3 pp, pt;
     const double dist = std::sqrt(q.distance2(p, t, pp, pt));
-    if (!(dist < best)) return;
+    if (!(dist < best)) return false;
     found = true;
     best = dist;
     cut = std::max(0.0, best * shrink_rel - tie);
     best2_ = cut * cut;
     best_slot = slot, best_tri = tri, best_pp = pp, best_pt = pt;
+    return true;
   }
 
   double lower2(std::uint32_t node, const double* blo, const double* bhi) const {
@@ -588,16 +651,54 @@ struct HfDistance {
     return box_distance_squared(plo, phi, blo, bhi) * kShrink;
   }
 
+  // (best + kernel_slack)^2 rounded up to float: a float lower bound at or
+  // above it proves the kernel's value for the pair is at least best.
+  float float_cut2() const {
+    const double c = best + q.kernel_slack;
+    return round_up(c * c * (1.0 + 1e-15));
+  }
+
   bool leaves(const Pair& p) {
     const BvhNode& x = q.part->bvh.nodes[p.node];
+    // SIMD float lower bounds first (kernels/leaf_bounds.h), the terrain
+    // leaf's triangles as two views of up to 16. A pair is skipped only
+    // when its bound reaches best + kernel_slack: the kernel's value would
+    // then be at least best, so consider() would not take it. Skipping
+    // pairs that change nothing leaves every improvement, and so the
+    // answer and the order of the rest, as without the filter; a leaf pair
+    // with no pair left is never mapped in double.
+    alignas(64) float soa[9 * kTerrainSoaStride];
+    float tlo[3], thi[3];
+    const int n_soa = q.terrain_soa(p.bx, p.by, soa, tlo, thi);
+    const int views = (n_soa + kLeafLanes - 1) / kLeafLanes;
+    LeafSide side_t = q.side_t;
+    side_t.soa = soa;
+    float cut2_f = float_cut2();
+    LeafPairBounds lb[2];
+    std::uint32_t cand[kMaxLeafSize] = {};
+    std::uint32_t any = 0;
+    for (int v = 0; v < views; ++v) {
+      LeafPairInput in;
+      make_leaf_pair(q.side_p, x.index, static_cast<int>(x.count), x.lo, x.hi, side_t,
+                     static_cast<std::uint32_t>(v * kLeafLanes), std::min(kLeafLanes, n_soa - v * kLeafLanes), tlo,
+                     thi, in);
+      q.kernels.lower_bounds(in, cut2_f, lb[v]);
+      for (std::uint32_t i = 0; i < x.count; ++i) {
+        cand[i] |= lb[v].candidates[i] << (v * kLeafLanes);
+        any |= cand[i];
+      }
+    }
+    if (any == 0) return true;
     LeafTriangles l;
     const int nt = q.leaf_triangles(x, p.bx, p.by, l);
     auto& [tri_p, tri_t, box_p, box_t, ids] = l;
     for (std::uint32_t i = 0; i < x.count; ++i)
-      for (int j = 0; j < nt; ++j) {
+      for (std::uint32_t m = cand[i]; m != 0; m &= m - 1) {
+        const int j = __builtin_ctz(m);
+        if (j >= nt || lb[j / kLeafLanes].lower2[i][j % kLeafLanes] >= cut2_f) continue;
         if (box_distance_squared(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3) * kShrink >= best2_) continue;
         ++result.triangle_pairs_tested;
-        consider(tri_p[i], tri_t[j], x.index + i, ids[j]);
+        if (consider(tri_p[i], tri_t[j], x.index + i, ids[j])) cut2_f = float_cut2();
         if (found && first_below) return false;  // a yes is enough
       }
     return true;
