@@ -17,6 +17,8 @@
 #include "src/geometry/query_frame.h"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -26,10 +28,16 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// Heightfield::stamp(): from 1, never reused.
+std::uint64_t next_stamp() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
 }  // namespace
 
 Heightfield::Heightfield(const Dem& dem, const Vec3& origin)
-    : ncols_(dem.ncols), nrows_(dem.nrows), origin_z_(origin.z()) {
+    : ncols_(dem.ncols), nrows_(dem.nrows), origin_z_(origin.z()), stamp_(next_stamp()) {
   xs_.resize(static_cast<std::size_t>(ncols_));
   ys_.resize(static_cast<std::size_t>(nrows_));
   z_.resize(static_cast<std::size_t>(ncols_) * nrows_);
@@ -149,6 +157,7 @@ std::size_t Heightfield::refit(const Dem& grid, SampleRect changed) {
   changed.c0 = std::max(changed.c0, 0), changed.r0 = std::max(changed.r0, 0);
   changed.c1 = std::min(changed.c1, ncols_ - 1), changed.r1 = std::min(changed.r1, nrows_ - 1);
   if (changed.empty() || cell_cols() == 0 || cell_rows() == 0) return 0;
+  stamp_ = next_stamp();
   for (int r = changed.r0; r <= changed.r1; ++r)
     for (int c = changed.c0; c <= changed.c1; ++c)
       z_[static_cast<std::size_t>(r) * ncols_ + c] = origin_z_ + grid.height(c, r);
@@ -284,6 +293,40 @@ constexpr int kLeafSamples = (Heightfield::kLeafCells + 1) * (Heightfield::kLeaf
 constexpr std::size_t kTerrainSoaStride = kLeafTris;
 static_assert(kLeafTris == 2 * kLeafLanes, "a leaf block is two prefilter views");
 
+// A leaf block's triangles as the float prefilter reads them: in
+// terrain_triangles' order, SoA (store_leaf_soa, reference frame) relative
+// to the centre of the block box rounded outward to float [lo, hi], lanes
+// past n zero. They depend on the heights alone, so a thread keeps the
+// last few (t_leaf_soa) keyed by block and Heightfield::stamp().
+struct TerrainLeafSoa {
+  std::uint64_t stamp = 0;  // 0: empty
+  int bx = -1, by = -1;
+  int n = 0;
+  float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  alignas(64) float soa[9 * kTerrainSoaStride];
+};
+
+// 8 x 8 neighbouring blocks in distinct entries (76 KB a thread).
+thread_local std::array<TerrainLeafSoa, 64> t_leaf_soa;
+
+void terrain_soa_build(const Heightfield& hf, int bx, int by, TerrainLeafSoa& e) {
+  e.stamp = hf.stamp(), e.bx = bx, e.by = by, e.n = 0;
+  std::fill(e.soa, e.soa + 9 * kTerrainSoaStride, 0.0f);
+  double blo[3], bhi[3];
+  if (!hf.block_box(0, bx, by, blo, bhi)) return;
+  for (int k = 0; k < 3; ++k) e.lo[k] = round_down(blo[k]), e.hi[k] = round_up(bhi[k]);
+  double tri[kLeafTris][9];
+  const int L = Heightfield::kLeafCells;
+  const int c0 = bx * L, r0 = by * L;
+  const int c1 = std::min(c0 + L, hf.cell_cols()), r1 = std::min(r0 + L, hf.cell_rows());
+  for (int r = r0; r < r1; ++r)
+    for (int c = c0; c < c1; ++c)
+      if (hf.cell_valid(c, r))
+        for (int k = 0; k < 2; ++k) hf.cell_triangle(c, r, k, tri[e.n++]);
+  store_leaf_soa(e.soa, kTerrainSoaStride, 0, e.n, e.lo, e.hi,
+                 [&](std::uint32_t t, int v) -> const double* { return tri[t] + 3 * v; });
+}
+
 // A leaf pair's triangles (part, terrain) and their boxes (HfQuery::leaf_triangles).
 struct LeafTriangles {
   double tri_p[kMaxLeafSize][9], tri_t[kLeafTris][9], box_p[kMaxLeafSize][6], box_t[kLeafTris][6];
@@ -362,28 +405,49 @@ struct HfQuery {
     return make_leaf_side(soa, stride, m ? m->l : nullptr, m ? m->t : nullptr, size * (1.0 + 1e-6));
   }
 
-  // The float SoA of leaf block (bx, by)'s triangles in terrain_triangles'
-  // order (store_leaf_soa, reference frame, relative to the centre of the
-  // block box rounded outward to float, which lo, hi get); returns how many.
-  int terrain_soa(int bx, int by, float* soa, float* lo, float* hi) const {
-    double blo[3], bhi[3];
-    if (!hf->block_box(0, bx, by, blo, bhi)) return 0;
-    for (int k = 0; k < 3; ++k) lo[k] = round_down(blo[k]), hi[k] = round_up(bhi[k]);
-    double tri[kLeafTris][9];
-    const int L = Heightfield::kLeafCells;
-    const int c0 = bx * L, r0 = by * L;
-    const int c1 = std::min(c0 + L, hf->cell_cols()), r1 = std::min(r0 + L, hf->cell_rows());
-    int n = 0;
-    for (int r = r0; r < r1; ++r)
-      for (int c = c0; c < c1; ++c)
-        if (hf->cell_valid(c, r))
-          for (int k = 0; k < 2; ++k) hf->cell_triangle(c, r, k, tri[n++]);
-    store_leaf_soa(soa, kTerrainSoaStride, 0, n, lo, hi,
-                   [&](std::uint32_t t, int v) -> const double* { return tri[t] + 3 * v; });
-    // Lanes past n that a register load reads: defined, and ignored.
-    const int end = (n + kLeafLanes - 1) / kLeafLanes * kLeafLanes;
-    for (std::size_t c = 0; c < 9; ++c) std::fill(soa + c * kTerrainSoaStride + n, soa + c * kTerrainSoaStride + end, 0.0f);
-    return n;
+  // Leaf block (bx, by)'s triangles for the float prefilter, from the
+  // thread's cache (terrain_soa_build on a miss).
+  const TerrainLeafSoa& terrain_soa(int bx, int by) const {
+    TerrainLeafSoa& e = t_leaf_soa[static_cast<std::size_t>((bx & 7) | ((by & 7) << 3))];
+    if (e.stamp != hf->stamp() || e.bx != bx || e.by != by) terrain_soa_build(*hf, bx, by, e);
+    return e;
+  }
+
+  // Both views of leaf block (bx, by) against part leaf x: lb[v] for view
+  // v, cand[i] bit j: (part triangle i, terrain triangle j) not settled by
+  // the lower bounds against cut2; returns the terrain triangle count.
+  int terrain_bounds(const BvhNode& x, int bx, int by, float cut2, LeafPairBounds* lb, std::uint32_t* cand) const {
+    const TerrainLeafSoa& t = terrain_soa(bx, by);
+    LeafSide side = side_t;
+    side.soa = t.soa;
+    for (std::uint32_t i = 0; i < x.count; ++i) cand[i] = 0;
+    for (int v = 0; v * kLeafLanes < t.n; ++v) {
+      LeafPairInput in;
+      make_leaf_pair(side_p, x.index, static_cast<int>(x.count), x.lo, x.hi, side,
+                     static_cast<std::uint32_t>(v * kLeafLanes), std::min(kLeafLanes, t.n - v * kLeafLanes), t.lo,
+                     t.hi, in);
+      kernels.lower_bounds(in, cut2, lb[v]);
+      for (std::uint32_t i = 0; i < x.count; ++i) cand[i] |= lb[v].candidates[i] << (v * kLeafLanes);
+    }
+    return t.n;
+  }
+
+  // The same for the collision test: touch[i] bit j, the pair not proven
+  // disjoint (the exact test must decide).
+  void terrain_touch(const BvhNode& x, int bx, int by, std::uint32_t* touch) const {
+    const TerrainLeafSoa& t = terrain_soa(bx, by);
+    LeafSide side = side_t;
+    side.soa = t.soa;
+    for (std::uint32_t i = 0; i < x.count; ++i) touch[i] = 0;
+    for (int v = 0; v * kLeafLanes < t.n; ++v) {
+      LeafPairInput in;
+      make_leaf_pair(side_p, x.index, static_cast<int>(x.count), x.lo, x.hi, side,
+                     static_cast<std::uint32_t>(v * kLeafLanes), std::min(kLeafLanes, t.n - v * kLeafLanes), t.lo,
+                     t.hi, in);
+      std::uint32_t m[kLeafLanes];
+      kernels.touch_masks(in, m);
+      for (std::uint32_t i = 0; i < x.count; ++i) touch[i] |= m[i] << (v * kLeafLanes);
+    }
   }
 
   // The part node's reference-frame box (Arvo), widened by cull_margin.
@@ -567,11 +631,21 @@ struct HfOverlap {
 
   bool leaves(const Pair& p) {
     const BvhNode& x = q.part->bvh.nodes[p.node];
+    // SIMD float disjointness first (kernels/leaf_bounds.h): a pair it
+    // proves disjoint is one the exact test would refuse, so the pairs
+    // listed and their order are those without it.
+    std::uint32_t touch[kMaxLeafSize];
+    q.terrain_touch(x, p.bx, p.by, touch);
+    std::uint32_t any = 0;
+    for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
+    if (any == 0) return true;
     LeafTriangles l;
     const int nt = q.leaf_triangles(x, p.bx, p.by, l);
     auto& [tri_p, tri_t, box_p, box_t, ids] = l;
     for (std::uint32_t i = 0; i < x.count; ++i)
-      for (int j = 0; j < nt; ++j) {
+      for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
+        const int j = __builtin_ctz(m);
+        if (j >= nt) continue;
         if (!boxes_overlap(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3)) continue;
         ++result.triangle_pairs_tested;
         if (!q.overlap(tri_p[i], tri_t[j])) continue;
@@ -639,10 +713,15 @@ struct HfDistance {
     return true;
   }
 
-  double lower2(std::uint32_t node, const double* blo, const double* bhi) const {
+  // posed: node's posed box when the caller has it (use_obb only).
+  double lower2(std::uint32_t node, const double* blo, const double* bhi, const PosedObb* posed = nullptr) const {
     if (q.use_obb) {
-      PosedObb o;
-      q.posed_obb(node, o);
+      PosedObb own;
+      if (!posed) {
+        q.posed_obb(node, own);
+        posed = &own;
+      }
+      const PosedObb& o = *posed;
       const double lb = obb_box_lower(o, blo, bhi, q.tolerance(o, blo, bhi));
       return lb * lb * kShrink;
     }
@@ -667,27 +746,12 @@ struct HfDistance {
     // pairs that change nothing leaves every improvement, and so the
     // answer and the order of the rest, as without the filter; a leaf pair
     // with no pair left is never mapped in double.
-    alignas(64) float soa[9 * kTerrainSoaStride];
-    float tlo[3], thi[3];
-    const int n_soa = q.terrain_soa(p.bx, p.by, soa, tlo, thi);
-    const int views = (n_soa + kLeafLanes - 1) / kLeafLanes;
-    LeafSide side_t = q.side_t;
-    side_t.soa = soa;
     float cut2_f = float_cut2();
     LeafPairBounds lb[2];
-    std::uint32_t cand[kMaxLeafSize] = {};
+    std::uint32_t cand[kMaxLeafSize];
+    q.terrain_bounds(x, p.bx, p.by, cut2_f, lb, cand);
     std::uint32_t any = 0;
-    for (int v = 0; v < views; ++v) {
-      LeafPairInput in;
-      make_leaf_pair(q.side_p, x.index, static_cast<int>(x.count), x.lo, x.hi, side_t,
-                     static_cast<std::uint32_t>(v * kLeafLanes), std::min(kLeafLanes, n_soa - v * kLeafLanes), tlo,
-                     thi, in);
-      q.kernels.lower_bounds(in, cut2_f, lb[v]);
-      for (std::uint32_t i = 0; i < x.count; ++i) {
-        cand[i] |= lb[v].candidates[i] << (v * kLeafLanes);
-        any |= cand[i];
-      }
-    }
+    for (std::uint32_t i = 0; i < x.count; ++i) any |= cand[i];
     if (any == 0) return true;
     LeafTriangles l;
     const int nt = q.leaf_triangles(x, p.bx, p.by, l);
@@ -723,10 +787,13 @@ struct HfDistance {
     }
     int cells[4][2];
     const int m = block_children(*q.hf, p.level, p.bx, p.by, cells);
+    // The children share the part node: pose its box once.
+    PosedObb o{};
+    if (q.use_obb) q.posed_obb(p.node, o);
     for (int k = 0; k < m; ++k) {
       double clo[3], chi[3];
       q.block(p.level - 1, cells[k][0], cells[k][1], clo, chi);
-      kids[k] = {p.node, p.level - 1, cells[k][0], cells[k][1], lower2(p.node, clo, chi)};
+      kids[k] = {p.node, p.level - 1, cells[k][0], cells[k][1], lower2(p.node, clo, chi, q.use_obb ? &o : nullptr)};
     }
     return m;
   }

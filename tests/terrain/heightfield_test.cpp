@@ -294,14 +294,16 @@ TEST(Heightfield, RayDownIntoAPitReadsItsDepth) {
   EXPECT_FALSE(hf.intersect_ray(off, down, 0.0, t, tri));
 }
 
-// The float leaf prefilter of the distance search (heightfield.cpp,
-// HfDistance::leaves) changes no answer: with every instruction set's
-// kernels each request below gets bit for bit the answer of kernels that
-// prove nothing (leaf_kernels_none: every pair of every leaf pair on the
-// double path, as before the prefilter), on bumpy ground with holes, flat
+// The float leaf prefilters (heightfield.cpp: HfDistance::leaves,
+// HfOverlap::leaves) change no answer: with every instruction set's
+// kernels each distance request below gets bit for bit the answer of
+// kernels that prove nothing (leaf_kernels_none: every pair of every leaf
+// pair on the double path, as before the prefilters), and collide() lists
+// the same pairs in the same order, on bumpy ground with holes, flat
 // ground (ties everywhere under a flat face), ground far from the origin
-// with large heights, and a grid of 0.1 mm cells; rigid and scaled poses,
-// parts far, near, grazing, touching and buried.
+// with large heights, a grid of 0.1 mm cells, and ground dug (refit)
+// under the part between queries; rigid and scaled poses, parts far, near,
+// grazing, touching and buried.
 struct KernelsGuard {
   const LeafKernels& saved = leaf_kernels();
   ~KernelsGuard() { set_leaf_kernels(saved); }
@@ -313,7 +315,30 @@ struct PrefilterCase {
   Vec3 origin;
   Mesh part;
   std::vector<Affine> poses;
+  Dem dug = {};  // when it has samples: refit to it before the queries
 };
+
+// Everything the prefilters could change for one pose and request list.
+struct PrefilterAnswers {
+  std::vector<DistanceResult> distance;
+  CollideResult all, first;
+  DistanceResult contact;
+};
+
+PrefilterAnswers prefilter_answers(const CollisionModel& model, const Affine& pose, const Heightfield& hf,
+                                   const std::vector<DistanceRequest>& requests) {
+  PrefilterAnswers out;
+  for (const DistanceRequest& r : requests) {
+    out.distance.emplace_back();
+    distance(model, pose, hf, r, out.distance.back());
+  }
+  collide(model, pose, hf, CollideRequest{1u << 20}, out.all);
+  CollideRequest first{0};
+  out.contact.distance = -1.0;
+  first.contact = &out.contact;
+  collide(model, pose, hf, first, out.first);
+  return out;
+}
 
 // The requests the checks send: plain, bounded (above and below the
 // answer, and the sweep's 5 cm), seeded with the answer's own pair and with
@@ -410,16 +435,39 @@ TEST(Heightfield, DistancePrefilterChangesNoAnswer) {
     c.poses = poses(d, c.origin, -1e-4, 6e-4, 30, true);
     cases.push_back(std::move(c));
   }
+  {
+    // Bumpy ground queried (so its blocks are in the thread's cache), then
+    // a pit dug and a rim raised under the poses and refit.
+    Dem d = bumpy_dem(35, 16, 0.05, false);
+    PrefilterCase c{"dug", d, kOrigin, testing::make_sphere(Vec3::Zero(), 0.1, 8, 12), {}};
+    c.poses = poses(d, kOrigin, kOrigin.z() + 0.02, kOrigin.z() + 0.35, 24, false);
+    for (int r = 2; r < d.nrows - 2; ++r)
+      for (int col = 2; col < d.ncols - 2; ++col) d.z[static_cast<std::size_t>(r) * d.ncols + col] += (r + col) % 3 == 0 ? 0.15 : -0.2;
+    c.dug = d;
+    cases.push_back(std::move(c));
+  }
   KernelsGuard guard;
   for (const PrefilterCase& c : cases) {
     SCOPED_TRACE(c.name);
-    const Heightfield hf(c.dem, c.origin);
+    Heightfield hf(c.dem, c.origin);
     const CollisionModel model(c.part);
     std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(hf.triangle_count() - 1));
-    // The reference answers, and the requests (from the plain answer).
+    if (!c.dug.z.empty()) {
+      // Fill the caches with the ground before the dig, then dig.
+      for (int isa = 0; isa < kIsaCount; ++isa)
+        if (const LeafKernels* k = leaf_kernels_for(static_cast<Isa>(isa))) {
+          set_leaf_kernels(*k);
+          for (const Affine& pose : c.poses) prefilter_answers(model, pose, hf, {DistanceRequest{}});
+        }
+      hf.refit(c.dug, {0, 0, c.dug.ncols - 1, c.dug.nrows - 1});
+    }
+    // The reference answers, and the requests (from the plain answer);
+    // the reference's collision listing and plain distance are the mesh
+    // path's (which has its own prefilters, off here too).
     set_leaf_kernels(leaf_kernels_none());
+    const CollisionModel mesh_model(dem_mesh(c.dug.z.empty() ? c.dem : c.dug, c.origin));
     std::vector<std::vector<DistanceRequest>> requests;
-    std::vector<std::vector<DistanceResult>> want;
+    std::vector<PrefilterAnswers> want;
     std::uint64_t tested_none = 0;
     int found = 0, contact = 0;
     for (const Affine& pose : c.poses) {
@@ -428,29 +476,39 @@ TEST(Heightfield, DistancePrefilterChangesNoAnswer) {
       found += plain.found && plain.distance > 0.0 ? 1 : 0;
       contact += plain.found && plain.distance == 0.0 ? 1 : 0;
       requests.push_back(prefilter_requests(plain, pick(rng)));
-      want.emplace_back();
-      for (const DistanceRequest& r : requests.back()) {
-        DistanceResult d;
-        distance(model, pose, hf, r, d);
-        tested_none += d.triangle_pairs_tested;
-        want.back().push_back(d);
-      }
+      want.push_back(prefilter_answers(model, pose, hf, requests.back()));
+      CollideResult m;
+      collide(model, pose, mesh_model, Affine::Identity(), CollideRequest{1u << 20}, m);
+      EXPECT_EQ(as_set(want.back().all.triangle_pairs), as_set(m.triangle_pairs));
+      DistanceResult md;
+      distance(model, pose, mesh_model, Affine::Identity(), DistanceRequest{}, md);
+      EXPECT_EQ(plain.distance, md.distance);
+      for (const DistanceResult& d : want.back().distance) tested_none += d.triangle_pairs_tested;
+      tested_none += want.back().all.triangle_pairs_tested;
     }
     EXPECT_GT(found, 2);
+    if (c.name != "tiny" && c.name != "far") {
+      EXPECT_GT(contact, 0);
+    }
     for (int isa = 0; isa < kIsaCount; ++isa) {
       const LeafKernels* k = leaf_kernels_for(static_cast<Isa>(isa));
       if (k == nullptr) continue;
       SCOPED_TRACE(k->name);
       set_leaf_kernels(*k);
       std::uint64_t tested = 0;
-      for (std::size_t p = 0; p < c.poses.size(); ++p)
+      for (std::size_t p = 0; p < c.poses.size(); ++p) {
+        const PrefilterAnswers got = prefilter_answers(model, c.poses[p], hf, requests[p]);
         for (std::size_t q = 0; q < requests[p].size(); ++q) {
-          DistanceResult d;
-          distance(model, c.poses[p], hf, requests[p][q], d);
-          tested += d.triangle_pairs_tested;
-          EXPECT_TRUE(testing::same_answer(d, want[p][q])) << "pose " << p << " request " << q;
+          tested += got.distance[q].triangle_pairs_tested;
+          EXPECT_TRUE(testing::same_answer(got.distance[q], want[p].distance[q])) << "pose " << p << " request " << q;
         }
-      // The filter proved something: fewer pairs reached the kernel.
+        tested += got.all.triangle_pairs_tested;
+        EXPECT_EQ(got.all.collide, want[p].all.collide) << "pose " << p;
+        EXPECT_EQ(got.all.triangle_pairs, want[p].all.triangle_pairs) << "pose " << p;
+        EXPECT_EQ(got.first.triangle_pairs, want[p].first.triangle_pairs) << "pose " << p;
+        EXPECT_TRUE(testing::same_answer(got.contact, want[p].contact)) << "pose " << p;
+      }
+      // The filters proved something: fewer pairs reached the exact tests.
       EXPECT_LT(tested, tested_none);
     }
   }
