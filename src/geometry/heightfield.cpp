@@ -3,8 +3,9 @@
 // traversal. The traversal pairs part BVH nodes with pyramid blocks; node
 // pairs are culled in the reference frame (the part node's oriented box
 // posed by ta against the block's axis-aligned box, 15-axis separating axis
-// test, widened for rounding), leaves run the exact kernels in the working
-// frame described in heightfield.h.
+// test, widened for rounding), leaves run the float SIMD prefilters of
+// kernels/leaf_bounds.h, then the exact kernels in the working frame
+// described in heightfield.h.
 #include "src/geometry/heightfield.h"
 
 #include "kernels/box.h"
@@ -413,41 +414,43 @@ struct HfQuery {
     return e;
   }
 
-  // Both views of leaf block (bx, by) against part leaf x: lb[v] for view
-  // v, cand[i] bit j: (part triangle i, terrain triangle j) not settled by
-  // the lower bounds against cut2; returns the terrain triangle count.
-  int terrain_bounds(const BvhNode& x, int bx, int by, float cut2, LeafPairBounds* lb, std::uint32_t* cand) const {
+  // fn(v, in) for each view v of leaf block (bx, by)'s triangles against
+  // part leaf x (in: the prefilters' input); returns the triangle count.
+  template <class Fn>
+  int terrain_views(const BvhNode& x, int bx, int by, Fn&& fn) const {
     const TerrainLeafSoa& t = terrain_soa(bx, by);
     LeafSide side = side_t;
     side.soa = t.soa;
-    for (std::uint32_t i = 0; i < x.count; ++i) cand[i] = 0;
     for (int v = 0; v * kLeafLanes < t.n; ++v) {
       LeafPairInput in;
       make_leaf_pair(side_p, x.index, static_cast<int>(x.count), x.lo, x.hi, side,
                      static_cast<std::uint32_t>(v * kLeafLanes), std::min(kLeafLanes, t.n - v * kLeafLanes), t.lo,
                      t.hi, in);
-      kernels.lower_bounds(in, cut2, lb[v]);
-      for (std::uint32_t i = 0; i < x.count; ++i) cand[i] |= lb[v].candidates[i] << (v * kLeafLanes);
+      fn(v, in);
     }
     return t.n;
+  }
+
+  // Both views against part leaf x: lb[v] for view v, cand[i] bit j: (part
+  // triangle i, terrain triangle j) not settled by the lower bounds
+  // against cut2.
+  void terrain_bounds(const BvhNode& x, int bx, int by, float cut2, LeafPairBounds* lb, std::uint32_t* cand) const {
+    std::fill(cand, cand + x.count, 0u);
+    terrain_views(x, bx, by, [&](int v, const LeafPairInput& in) {
+      kernels.lower_bounds(in, cut2, lb[v]);
+      for (std::uint32_t i = 0; i < x.count; ++i) cand[i] |= lb[v].candidates[i] << (v * kLeafLanes);
+    });
   }
 
   // The same for the collision test: touch[i] bit j, the pair not proven
   // disjoint (the exact test must decide).
   void terrain_touch(const BvhNode& x, int bx, int by, std::uint32_t* touch) const {
-    const TerrainLeafSoa& t = terrain_soa(bx, by);
-    LeafSide side = side_t;
-    side.soa = t.soa;
-    for (std::uint32_t i = 0; i < x.count; ++i) touch[i] = 0;
-    for (int v = 0; v * kLeafLanes < t.n; ++v) {
-      LeafPairInput in;
-      make_leaf_pair(side_p, x.index, static_cast<int>(x.count), x.lo, x.hi, side,
-                     static_cast<std::uint32_t>(v * kLeafLanes), std::min(kLeafLanes, t.n - v * kLeafLanes), t.lo,
-                     t.hi, in);
+    std::fill(touch, touch + x.count, 0u);
+    terrain_views(x, bx, by, [&](int v, const LeafPairInput& in) {
       std::uint32_t m[kLeafLanes];
       kernels.touch_masks(in, m);
       for (std::uint32_t i = 0; i < x.count; ++i) touch[i] |= m[i] << (v * kLeafLanes);
-    }
+    });
   }
 
   // The part node's reference-frame box (Arvo), widened by cull_margin.
