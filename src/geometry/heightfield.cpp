@@ -3,8 +3,9 @@
 // traversal. The traversal pairs part BVH nodes with pyramid blocks; node
 // pairs are culled in the reference frame (the part node's oriented box
 // posed by ta against the block's axis-aligned box, 15-axis separating axis
-// test, widened for rounding), leaves run the exact kernels in the working
-// frame described in heightfield.h.
+// test, widened for rounding), leaves run the float SIMD prefilters of
+// kernels/leaf_bounds.h, then the exact kernels in the working frame
+// described in heightfield.h.
 #include "src/geometry/heightfield.h"
 
 #include "kernels/box.h"
@@ -17,6 +18,8 @@
 #include "src/geometry/query_frame.h"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -26,10 +29,16 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
+// Heightfield::stamp(): from 1, never reused.
+std::uint64_t next_stamp() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
 }  // namespace
 
 Heightfield::Heightfield(const Dem& dem, const Vec3& origin)
-    : ncols_(dem.ncols), nrows_(dem.nrows), origin_z_(origin.z()) {
+    : ncols_(dem.ncols), nrows_(dem.nrows), origin_z_(origin.z()), stamp_(next_stamp()) {
   xs_.resize(static_cast<std::size_t>(ncols_));
   ys_.resize(static_cast<std::size_t>(nrows_));
   z_.resize(static_cast<std::size_t>(ncols_) * nrows_);
@@ -149,6 +158,7 @@ std::size_t Heightfield::refit(const Dem& grid, SampleRect changed) {
   changed.c0 = std::max(changed.c0, 0), changed.r0 = std::max(changed.r0, 0);
   changed.c1 = std::min(changed.c1, ncols_ - 1), changed.r1 = std::min(changed.r1, nrows_ - 1);
   if (changed.empty() || cell_cols() == 0 || cell_rows() == 0) return 0;
+  stamp_ = next_stamp();
   for (int r = changed.r0; r <= changed.r1; ++r)
     for (int c = changed.c0; c <= changed.c1; ++c)
       z_[static_cast<std::size_t>(r) * ncols_ + c] = origin_z_ + grid.height(c, r);
@@ -278,6 +288,45 @@ namespace {
 
 constexpr int kLeafTris = 2 * Heightfield::kLeafCells * Heightfield::kLeafCells;
 constexpr int kLeafSamples = (Heightfield::kLeafCells + 1) * (Heightfield::kLeafCells + 1);
+// A leaf block's triangles in the float prefilter: two views of at most
+// kLeafLanes each (slots 0..15 and 16..31), stride kLeafTris, so a full
+// register load at either stays inside the 9 rows.
+constexpr std::size_t kTerrainSoaStride = kLeafTris;
+static_assert(kLeafTris == 2 * kLeafLanes, "a leaf block is two prefilter views");
+
+// A leaf block's triangles as the float prefilter reads them: in
+// terrain_triangles' order, SoA (store_leaf_soa, reference frame) relative
+// to the centre of the block box rounded outward to float [lo, hi], lanes
+// past n zero. They depend on the heights alone, so a thread keeps the
+// last few (t_leaf_soa) keyed by block and Heightfield::stamp().
+struct TerrainLeafSoa {
+  std::uint64_t stamp = 0;  // 0: empty
+  int bx = -1, by = -1;
+  int n = 0;
+  float lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  alignas(64) float soa[9 * kTerrainSoaStride];
+};
+
+// 8 x 8 neighbouring blocks in distinct entries (76 KB a thread).
+thread_local std::array<TerrainLeafSoa, 64> t_leaf_soa;
+
+void terrain_soa_build(const Heightfield& hf, int bx, int by, TerrainLeafSoa& e) {
+  e.stamp = hf.stamp(), e.bx = bx, e.by = by, e.n = 0;
+  std::fill(e.soa, e.soa + 9 * kTerrainSoaStride, 0.0f);
+  double blo[3], bhi[3];
+  if (!hf.block_box(0, bx, by, blo, bhi)) return;
+  for (int k = 0; k < 3; ++k) e.lo[k] = round_down(blo[k]), e.hi[k] = round_up(bhi[k]);
+  double tri[kLeafTris][9];
+  const int L = Heightfield::kLeafCells;
+  const int c0 = bx * L, r0 = by * L;
+  const int c1 = std::min(c0 + L, hf.cell_cols()), r1 = std::min(r0 + L, hf.cell_rows());
+  for (int r = r0; r < r1; ++r)
+    for (int c = c0; c < c1; ++c)
+      if (hf.cell_valid(c, r))
+        for (int k = 0; k < 2; ++k) hf.cell_triangle(c, r, k, tri[e.n++]);
+  store_leaf_soa(e.soa, kTerrainSoaStride, 0, e.n, e.lo, e.hi,
+                 [&](std::uint32_t t, int v) -> const double* { return tri[t] + 3 * v; });
+}
 
 // A leaf pair's triangles (part, terrain) and their boxes (HfQuery::leaf_triangles).
 struct LeafTriangles {
@@ -301,6 +350,14 @@ struct HfQuery {
   // Culling in the reference frame: the part's pose and its rounding margin.
   AffineMap pose;
   double cull_margin[3] = {0, 0, 0};
+  // Both sides for the float leaf prefilter (kernels/leaf_bounds.h): the
+  // part's stored SoA, the terrain's built per leaf (terrain_soa); their
+  // maps into the working frame and sizes as collision_model.cpp's
+  // Side::leaf_side. kernel_slack as there: the double kernel's value for a
+  // pair lies within it of the pair's exact distance.
+  LeafSide side_p, side_t;
+  double kernel_slack = 0.0;
+  const LeafKernels& kernels = leaf_kernels();
 
   void setup(const CollisionModel& a, const Affine& ta, const Heightfield& t) {
     part = &a.data();
@@ -323,6 +380,77 @@ struct HfQuery {
       for (int c = 0; c < 3; ++c) s += pose.abs_l[3 * r + c] * 2.0 * part->max_abs[c];
       cull_margin[r] = kMarginRel * s + 1e-300;
     }
+    // The terrain's largest coordinates: its root block holds every vertex
+    // of a valid cell.
+    const int root = static_cast<int>(t.levels().size()) - 1;
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    t.block_box(root, 0, 0, lo, hi);
+    const double terrain_abs[3] = {std::max(std::abs(lo[0]), std::abs(hi[0])),
+                                   std::max(std::abs(lo[1]), std::abs(hi[1])),
+                                   std::max(std::abs(lo[2]), std::abs(hi[2]))};
+    side_p = leaf_side(part->soa.data(), part->soa_stride, map_part ? &part_map : nullptr, part->max_abs.data());
+    side_t = leaf_side(nullptr, kTerrainSoaStride, map_terrain ? &terrain_map : nullptr, terrain_abs);
+    kernel_slack = 1e-13 * std::max(side_p.size, side_t.size) + 1e-300;
+  }
+
+  // A side mapped by m (nullptr: the identity), its coordinates at most
+  // max_abs per axis: size >= |l v| + |t| per coordinate.
+  static LeafSide leaf_side(const float* soa, std::size_t stride, const AffineMap* m, const double* max_abs) {
+    double size = 0.0;
+    for (int r = 0; r < 3; ++r) {
+      double row = m ? std::abs(m->t[r]) : max_abs[r];
+      if (m)
+        for (int c = 0; c < 3; ++c) row += m->abs_l[3 * r + c] * max_abs[c];
+      size = std::max(size, row);
+    }
+    return make_leaf_side(soa, stride, m ? m->l : nullptr, m ? m->t : nullptr, size * (1.0 + 1e-6));
+  }
+
+  // Leaf block (bx, by)'s triangles for the float prefilter, from the
+  // thread's cache (terrain_soa_build on a miss).
+  const TerrainLeafSoa& terrain_soa(int bx, int by) const {
+    TerrainLeafSoa& e = t_leaf_soa[static_cast<std::size_t>((bx & 7) | ((by & 7) << 3))];
+    if (e.stamp != hf->stamp() || e.bx != bx || e.by != by) terrain_soa_build(*hf, bx, by, e);
+    return e;
+  }
+
+  // fn(v, in) for each view v of leaf block (bx, by)'s triangles against
+  // part leaf x (in: the prefilters' input); returns the triangle count.
+  template <class Fn>
+  int terrain_views(const BvhNode& x, int bx, int by, Fn&& fn) const {
+    const TerrainLeafSoa& t = terrain_soa(bx, by);
+    LeafSide side = side_t;
+    side.soa = t.soa;
+    for (int v = 0; v * kLeafLanes < t.n; ++v) {
+      LeafPairInput in;
+      make_leaf_pair(side_p, x.index, static_cast<int>(x.count), x.lo, x.hi, side,
+                     static_cast<std::uint32_t>(v * kLeafLanes), std::min(kLeafLanes, t.n - v * kLeafLanes), t.lo,
+                     t.hi, in);
+      fn(v, in);
+    }
+    return t.n;
+  }
+
+  // Both views against part leaf x: lb[v] for view v, cand[i] bit j: (part
+  // triangle i, terrain triangle j) not settled by the lower bounds
+  // against cut2.
+  void terrain_bounds(const BvhNode& x, int bx, int by, float cut2, LeafPairBounds* lb, std::uint32_t* cand) const {
+    std::fill(cand, cand + x.count, 0u);
+    terrain_views(x, bx, by, [&](int v, const LeafPairInput& in) {
+      kernels.lower_bounds(in, cut2, lb[v]);
+      for (std::uint32_t i = 0; i < x.count; ++i) cand[i] |= lb[v].candidates[i] << (v * kLeafLanes);
+    });
+  }
+
+  // The same for the collision test: touch[i] bit j, the pair not proven
+  // disjoint (the exact test must decide).
+  void terrain_touch(const BvhNode& x, int bx, int by, std::uint32_t* touch) const {
+    std::fill(touch, touch + x.count, 0u);
+    terrain_views(x, bx, by, [&](int v, const LeafPairInput& in) {
+      std::uint32_t m[kLeafLanes];
+      kernels.touch_masks(in, m);
+      for (std::uint32_t i = 0; i < x.count; ++i) touch[i] |= m[i] << (v * kLeafLanes);
+    });
   }
 
   // The part node's reference-frame box (Arvo), widened by cull_margin.
@@ -506,11 +634,21 @@ struct HfOverlap {
 
   bool leaves(const Pair& p) {
     const BvhNode& x = q.part->bvh.nodes[p.node];
+    // SIMD float disjointness first (kernels/leaf_bounds.h): a pair it
+    // proves disjoint is one the exact test would refuse, so the pairs
+    // listed and their order are those without it.
+    std::uint32_t touch[kMaxLeafSize];
+    q.terrain_touch(x, p.bx, p.by, touch);
+    std::uint32_t any = 0;
+    for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
+    if (any == 0) return true;
     LeafTriangles l;
     const int nt = q.leaf_triangles(x, p.bx, p.by, l);
     auto& [tri_p, tri_t, box_p, box_t, ids] = l;
     for (std::uint32_t i = 0; i < x.count; ++i)
-      for (int j = 0; j < nt; ++j) {
+      for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
+        const int j = __builtin_ctz(m);
+        if (j >= nt) continue;
         if (!boxes_overlap(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3)) continue;
         ++result.triangle_pairs_tested;
         if (!q.overlap(tri_p[i], tri_t[j])) continue;
@@ -565,21 +703,28 @@ struct HfDistance {
   bool leaf_pair(const Pair& p) const { return q.part->bvh.nodes[p.node].is_leaf() && p.level == 0; }
 
   // The kernel on one triangle pair (part slot, dem_mesh index).
-  void consider(const double* p, const double* t, std::uint32_t slot, std::uint32_t tri) {
+  // True when it improved the best.
+  bool consider(const double* p, const double* t, std::uint32_t slot, std::uint32_t tri) {
     Vec3 pp, pt;
     const double dist = std::sqrt(q.distance2(p, t, pp, pt));
-    if (!(dist < best)) return;
+    if (!(dist < best)) return false;
     found = true;
     best = dist;
     cut = std::max(0.0, best * shrink_rel - tie);
     best2_ = cut * cut;
     best_slot = slot, best_tri = tri, best_pp = pp, best_pt = pt;
+    return true;
   }
 
-  double lower2(std::uint32_t node, const double* blo, const double* bhi) const {
+  // posed: node's posed box when the caller has it (use_obb only).
+  double lower2(std::uint32_t node, const double* blo, const double* bhi, const PosedObb* posed = nullptr) const {
     if (q.use_obb) {
-      PosedObb o;
-      q.posed_obb(node, o);
+      PosedObb own;
+      if (!posed) {
+        q.posed_obb(node, own);
+        posed = &own;
+      }
+      const PosedObb& o = *posed;
       const double lb = obb_box_lower(o, blo, bhi, q.tolerance(o, blo, bhi));
       return lb * lb * kShrink;
     }
@@ -588,16 +733,39 @@ struct HfDistance {
     return box_distance_squared(plo, phi, blo, bhi) * kShrink;
   }
 
+  // (best + kernel_slack)^2 rounded up to float: a float lower bound at or
+  // above it proves the kernel's value for the pair is at least best.
+  float float_cut2() const {
+    const double c = best + q.kernel_slack;
+    return round_up(c * c * (1.0 + 1e-15));
+  }
+
   bool leaves(const Pair& p) {
     const BvhNode& x = q.part->bvh.nodes[p.node];
+    // SIMD float lower bounds first (kernels/leaf_bounds.h), the terrain
+    // leaf's triangles as two views of up to 16. A pair is skipped only
+    // when its bound reaches best + kernel_slack: the kernel's value would
+    // then be at least best, so consider() would not take it. Skipping
+    // pairs that change nothing leaves every improvement, and so the
+    // answer and the order of the rest, as without the filter; a leaf pair
+    // with no pair left is never mapped in double.
+    float cut2_f = float_cut2();
+    LeafPairBounds lb[2];
+    std::uint32_t cand[kMaxLeafSize];
+    q.terrain_bounds(x, p.bx, p.by, cut2_f, lb, cand);
+    std::uint32_t any = 0;
+    for (std::uint32_t i = 0; i < x.count; ++i) any |= cand[i];
+    if (any == 0) return true;
     LeafTriangles l;
     const int nt = q.leaf_triangles(x, p.bx, p.by, l);
     auto& [tri_p, tri_t, box_p, box_t, ids] = l;
     for (std::uint32_t i = 0; i < x.count; ++i)
-      for (int j = 0; j < nt; ++j) {
+      for (std::uint32_t m = cand[i]; m != 0; m &= m - 1) {
+        const int j = __builtin_ctz(m);
+        if (j >= nt || lb[j / kLeafLanes].lower2[i][j % kLeafLanes] >= cut2_f) continue;
         if (box_distance_squared(box_p[i], box_p[i] + 3, box_t[j], box_t[j] + 3) * kShrink >= best2_) continue;
         ++result.triangle_pairs_tested;
-        consider(tri_p[i], tri_t[j], x.index + i, ids[j]);
+        if (consider(tri_p[i], tri_t[j], x.index + i, ids[j])) cut2_f = float_cut2();
         if (found && first_below) return false;  // a yes is enough
       }
     return true;
@@ -622,10 +790,13 @@ struct HfDistance {
     }
     int cells[4][2];
     const int m = block_children(*q.hf, p.level, p.bx, p.by, cells);
+    // The children share the part node: pose its box once.
+    PosedObb o{};
+    if (q.use_obb) q.posed_obb(p.node, o);
     for (int k = 0; k < m; ++k) {
       double clo[3], chi[3];
       q.block(p.level - 1, cells[k][0], cells[k][1], clo, chi);
-      kids[k] = {p.node, p.level - 1, cells[k][0], cells[k][1], lower2(p.node, clo, chi)};
+      kids[k] = {p.node, p.level - 1, cells[k][0], cells[k][1], lower2(p.node, clo, chi, q.use_obb ? &o : nullptr)};
     }
     return m;
   }

@@ -63,6 +63,9 @@ class Heightfield {
   std::size_t memory_bytes() const;
   std::size_t block_count() const;
   const std::vector<Level>& levels() const { return levels_; }
+  // Differs between any two heightfields built or refit apart (copies
+  // share it until one is refit): what caches of a leaf block's contents key on.
+  std::uint64_t stamp() const { return stamp_; }
 
   // Reference-frame coordinates of sample (c, r): identical doubles to dem_mesh's vertices.
   double x(int c) const { return xs_[static_cast<std::size_t>(c)]; }
@@ -98,6 +101,7 @@ class Heightfield {
 
   int ncols_ = 0, nrows_ = 0;
   double origin_z_ = 0.0;
+  std::uint64_t stamp_ = 0;
   std::vector<double> xs_, ys_, z_;       // z_: reference-frame heights, row-major samples
   std::vector<std::uint32_t> cell_tri_;   // per cell: first dem_mesh triangle or kNoTriangle
   std::vector<std::uint32_t> tri_cell_;   // per triangle pair (index / 2): cell index

@@ -5,6 +5,8 @@
 #include "src/geometry/heightfield.h"
 #include "src/scene/terrain.h"
 
+#include "kernels/leaf_bounds.h"
+
 #include "tests/support/brute_force.h"
 #include "tests/support/fixtures.h"
 #include "tests/support/same_answer.h"
@@ -13,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <set>
 
@@ -289,6 +292,226 @@ TEST(Heightfield, RayDownIntoAPitReadsItsDepth) {
   const double off[3] = {kOrigin.x() - 1.0, kOrigin.y(), kOrigin.z() + 1.0};
   t = 5.0;
   EXPECT_FALSE(hf.intersect_ray(off, down, 0.0, t, tri));
+}
+
+// The float leaf prefilters (heightfield.cpp: HfDistance::leaves,
+// HfOverlap::leaves) change no answer: with every instruction set's
+// kernels each distance request below gets bit for bit the answer of
+// kernels that prove nothing (leaf_kernels_none: every pair of every leaf
+// pair on the double path, as before the prefilters), and collide() lists
+// the same pairs in the same order, on bumpy ground with holes, flat
+// ground (ties everywhere under a flat face), ground far from the origin
+// with large heights, a grid of 0.1 mm cells, and ground dug (refit)
+// under the part between queries; rigid and scaled poses, parts far, near,
+// grazing, touching and buried.
+struct KernelsGuard {
+  const LeafKernels& saved = leaf_kernels();
+  ~KernelsGuard() { set_leaf_kernels(saved); }
+};
+
+struct PrefilterCase {
+  std::string name;
+  Dem dem;
+  Vec3 origin;
+  Mesh part;
+  std::vector<Affine> poses;
+  Dem dug = {};  // when it has samples: refit to it before the queries
+};
+
+// Everything the prefilters could change for one pose and request list.
+struct PrefilterAnswers {
+  std::vector<DistanceResult> distance;
+  CollideResult all, first;
+  DistanceResult contact;
+};
+
+PrefilterAnswers prefilter_answers(const CollisionModel& model, const Affine& pose, const Heightfield& hf,
+                                   const std::vector<DistanceRequest>& requests) {
+  PrefilterAnswers out;
+  for (const DistanceRequest& r : requests) {
+    out.distance.emplace_back();
+    distance(model, pose, hf, r, out.distance.back());
+  }
+  collide(model, pose, hf, CollideRequest{1u << 20}, out.all);
+  CollideRequest first{0};
+  out.contact.distance = -1.0;
+  first.contact = &out.contact;
+  collide(model, pose, hf, first, out.first);
+  return out;
+}
+
+// The requests the checks send: plain, bounded (above and below the
+// answer, and the sweep's 5 cm), seeded with the answer's own pair and with
+// a stranger, yes/no (first_below), tolerant, and after a collision pass.
+std::vector<DistanceRequest> prefilter_requests(const DistanceResult& plain, std::uint32_t tri_b) {
+  std::vector<DistanceRequest> out(1);
+  DistanceRequest r;
+  for (double f : {1.5, 0.5}) {
+    r = DistanceRequest{};
+    r.upper_bound = plain.found ? plain.distance * f + 1e-9 : 0.05;
+    out.push_back(r);
+  }
+  r = DistanceRequest{};
+  r.upper_bound = 0.05;
+  out.push_back(r);
+  if (plain.found) {
+    r.seed_slot_a = plain.slot_a;
+    r.seed_slot_b = plain.slot_b;
+    out.push_back(r);
+  }
+  r.seed_slot_a = 0;
+  r.seed_slot_b = tri_b;
+  out.push_back(r);
+  r = DistanceRequest{};
+  r.upper_bound = plain.found ? plain.distance * 1.01 + 1e-12 : 1.0;
+  r.first_below = true;
+  out.push_back(r);
+  r = DistanceRequest{};
+  r.rel_tolerance = 0.05;
+  r.abs_tolerance = 1e-12;
+  out.push_back(r);
+  if (plain.found && plain.distance > 0.0) {
+    r = DistanceRequest{};
+    r.known_disjoint = true;
+    out.push_back(r);
+  }
+  return out;
+}
+
+TEST(Heightfield, DistancePrefilterChangesNoAnswer) {
+  std::vector<PrefilterCase> cases;
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto poses = [&](const Dem& d, const Vec3& origin, double z_lo, double z_hi, int n, bool scaled) {
+    std::vector<Affine> out;
+    for (int k = 0; k < n; ++k) {
+      Affine t = random_pose(rng, d, z_lo, z_hi);
+      t.translation() += origin - kOrigin;
+      if (scaled && k % 3 == 0) t.linear() *= Eigen::DiagonalMatrix<double, 3>(1.3, 0.7, 1.0);
+      out.push_back(t);
+    }
+    return out;
+  };
+  {
+    PrefilterCase c{"bumpy", bumpy_dem(31, 18, 0.05, true), kOrigin, testing::make_soup(5, 60, Vec3::Zero(), 0.15, 0.12), {}};
+    c.poses = poses(c.dem, c.origin, c.origin.z() - 0.05, c.origin.z() + 0.45, 40, true);
+    cases.push_back(std::move(c));
+    PrefilterCase b{"bumpy ball", cases.back().dem, kOrigin, testing::make_sphere(Vec3::Zero(), 0.12, 8, 12), {}};
+    b.poses = poses(b.dem, b.origin, b.origin.z() + 0.05, b.origin.z() + 0.4, 30, true);
+    cases.push_back(std::move(b));
+  }
+  {
+    // Flat ground 0.1 high; a box's flat bottom face parallel to it at
+    // several heights (every triangle under the face is a tie), then tilted.
+    Dem d = bumpy_dem(32, 16, 0.05, false);
+    for (double& z : d.z) z = 0.1;
+    PrefilterCase c{"flat", d, kOrigin, testing::box_mesh(Vec3(-0.07, -0.05, 0.0), Vec3(0.07, 0.05, 0.04)), {}};
+    const Heightfield hf(d, kOrigin);
+    for (double dz : {0.0, 1e-12, 1e-9, 1e-4, 0.02, 0.049, 0.3})
+      for (int k = 0; k < 3; ++k) {
+        Affine t = Affine::Identity();
+        if (k == 2) t.linear() = Eigen::AngleAxisd(0.01, Vec3(1, 1, 0).normalized()).toRotationMatrix();
+        if (k == 1) t.linear() = Eigen::AngleAxisd(0.7, Vec3::UnitZ()).toRotationMatrix();
+        t.translation() = Vec3(hf.x(6 + 2 * k) + 0.003 * k, hf.y(7), hf.z(6, 7) + dz);
+        c.poses.push_back(t);
+      }
+    cases.push_back(std::move(c));
+  }
+  {
+    // Far from the origin, heights of 3 km +- 1 m: the floats carry far
+    // fewer bits of the gaps.
+    Dem d = bumpy_dem(33, 14, 0.5, true);
+    for (double& z : d.z) z = 3000.0 + 5.0 * z;
+    const Vec3 far(2.0e5, -1.5e5, 10.0);
+    PrefilterCase c{"far", d, far, testing::make_soup(6, 50, Vec3::Zero(), 1.2, 0.9), {}};
+    c.poses = poses(d, far, far.z() + 3000.0, far.z() + 3004.0, 30, false);
+    cases.push_back(std::move(c));
+  }
+  {
+    // 0.1 mm cells, heights of tens of microns, a 0.3 mm part.
+    Dem d = bumpy_dem(34, 15, 1e-4, false);
+    for (double& z : d.z) z *= 2e-4;
+    PrefilterCase c{"tiny", d, Vec3(1e-3, -2e-3, 0.0), testing::make_sphere(Vec3::Zero(), 3e-4, 6, 9), {}};
+    c.poses = poses(d, c.origin, -1e-4, 6e-4, 30, true);
+    cases.push_back(std::move(c));
+  }
+  {
+    // Bumpy ground queried (so its blocks are in the thread's cache), then
+    // a pit dug and a rim raised under the poses and refit.
+    Dem d = bumpy_dem(35, 16, 0.05, false);
+    PrefilterCase c{"dug", d, kOrigin, testing::make_sphere(Vec3::Zero(), 0.1, 8, 12), {}};
+    c.poses = poses(d, kOrigin, kOrigin.z() + 0.02, kOrigin.z() + 0.35, 24, false);
+    for (int r = 2; r < d.nrows - 2; ++r)
+      for (int col = 2; col < d.ncols - 2; ++col) d.z[static_cast<std::size_t>(r) * d.ncols + col] += (r + col) % 3 == 0 ? 0.15 : -0.2;
+    c.dug = d;
+    cases.push_back(std::move(c));
+  }
+  KernelsGuard guard;
+  for (const PrefilterCase& c : cases) {
+    SCOPED_TRACE(c.name);
+    Heightfield hf(c.dem, c.origin);
+    const CollisionModel model(c.part);
+    std::uniform_int_distribution<std::uint32_t> pick(0, static_cast<std::uint32_t>(hf.triangle_count() - 1));
+    if (!c.dug.z.empty()) {
+      // Fill the caches with the ground before the dig, then dig.
+      for (int isa = 0; isa < kIsaCount; ++isa)
+        if (const LeafKernels* k = leaf_kernels_for(static_cast<Isa>(isa))) {
+          set_leaf_kernels(*k);
+          for (const Affine& pose : c.poses) prefilter_answers(model, pose, hf, {DistanceRequest{}});
+        }
+      hf.refit(c.dug, {0, 0, c.dug.ncols - 1, c.dug.nrows - 1});
+    }
+    // The reference answers, and the requests (from the plain answer);
+    // the reference's collision listing and plain distance are the mesh
+    // path's (which has its own prefilters, off here too).
+    set_leaf_kernels(leaf_kernels_none());
+    const CollisionModel mesh_model(dem_mesh(c.dug.z.empty() ? c.dem : c.dug, c.origin));
+    std::vector<std::vector<DistanceRequest>> requests;
+    std::vector<PrefilterAnswers> want;
+    std::uint64_t tested_none = 0;
+    int found = 0, contact = 0;
+    for (const Affine& pose : c.poses) {
+      DistanceResult plain;
+      distance(model, pose, hf, DistanceRequest{}, plain);
+      found += plain.found && plain.distance > 0.0 ? 1 : 0;
+      contact += plain.found && plain.distance == 0.0 ? 1 : 0;
+      requests.push_back(prefilter_requests(plain, pick(rng)));
+      want.push_back(prefilter_answers(model, pose, hf, requests.back()));
+      CollideResult m;
+      collide(model, pose, mesh_model, Affine::Identity(), CollideRequest{1u << 20}, m);
+      EXPECT_EQ(as_set(want.back().all.triangle_pairs), as_set(m.triangle_pairs));
+      DistanceResult md;
+      distance(model, pose, mesh_model, Affine::Identity(), DistanceRequest{}, md);
+      EXPECT_EQ(plain.distance, md.distance);
+      for (const DistanceResult& d : want.back().distance) tested_none += d.triangle_pairs_tested;
+      tested_none += want.back().all.triangle_pairs_tested;
+    }
+    EXPECT_GT(found, 2);
+    if (c.name != "tiny" && c.name != "far") {
+      EXPECT_GT(contact, 0);
+    }
+    for (int isa = 0; isa < kIsaCount; ++isa) {
+      const LeafKernels* k = leaf_kernels_for(static_cast<Isa>(isa));
+      if (k == nullptr) continue;
+      SCOPED_TRACE(k->name);
+      set_leaf_kernels(*k);
+      std::uint64_t tested = 0;
+      for (std::size_t p = 0; p < c.poses.size(); ++p) {
+        const PrefilterAnswers got = prefilter_answers(model, c.poses[p], hf, requests[p]);
+        for (std::size_t q = 0; q < requests[p].size(); ++q) {
+          tested += got.distance[q].triangle_pairs_tested;
+          EXPECT_TRUE(testing::same_answer(got.distance[q], want[p].distance[q])) << "pose " << p << " request " << q;
+        }
+        tested += got.all.triangle_pairs_tested;
+        EXPECT_EQ(got.all.collide, want[p].all.collide) << "pose " << p;
+        EXPECT_EQ(got.all.triangle_pairs, want[p].all.triangle_pairs) << "pose " << p;
+        EXPECT_EQ(got.first.triangle_pairs, want[p].first.triangle_pairs) << "pose " << p;
+        EXPECT_TRUE(testing::same_answer(got.contact, want[p].contact)) << "pose " << p;
+      }
+      // The filters proved something: fewer pairs reached the exact tests.
+      EXPECT_LT(tested, tested_none);
+    }
+  }
 }
 
 }  // namespace
