@@ -731,8 +731,11 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     lower.assign(pairs_.size(), 0.0);
   else
     lower.resize(pairs_.size());
+  // The pairs apart, in visiting order: written by index, not push_back
+  // (which GCC stops inlining in a function this long), sized at the end.
   std::vector<std::size_t>& order = scratch.order;
-  order.clear();
+  order.resize(pairs_.size());
+  std::size_t ordered = 0;
   // Verdict-only without a seed, a pair beyond `start` needs no square
   // root of its box gap: nothing reads its lower bound but the skipped
   // pairs' minimum, and the least square root is the root of the least
@@ -750,7 +753,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // A pair apart (box gap squared g2, lower bound l) in the distance search.
   auto place = [&](std::size_t k, double l, double g2) {
     if (!verdict_only || l < start)
-      order.push_back(k);
+      order[ordered++] = k;
     else
       skipped = std::min(skipped, lazy ? g2 : l);
   };
@@ -895,7 +898,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     // (an empty, inverted box), take no part.
     if (empty || (on_terrain ? (which == kNonTerrainPairs || !terrain_live) : which == kTerrainPairs)) {
       lower[k] = std::numeric_limits<double>::infinity();
-      if (with_distance && !verdict_only) order.push_back(k);
+      if (with_distance && !verdict_only) order[ordered++] = k;
       continue;
     }
     const double g2 = gap2[k];
@@ -933,6 +936,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     }
     if (with_distance) place(k, l, g2);
   }
+  order.resize(ordered);
   out.collision = !out.contacts.empty();
   out.limit_action = first_limit_violation(scene_, params);
   if (!request.distance) {
