@@ -15,6 +15,7 @@
 #include "src/scene/terrain.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -107,6 +108,13 @@ inline double box_gap2(const Box& a, const Box& b) {
 #endif
 }
 
+// The terrain's box: its pyramid's root, padded as a static part's box.
+Box terrain_root_box(const Heightfield& terrain) {
+  double lo[3], hi[3];
+  terrain.block_box(static_cast<int>(terrain.levels().size()) - 1, 0, 0, lo, hi);
+  return posed_box({Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}, Affine::Identity());
+}
+
 // Whether a distance search at transforms (ta, tb) with request q has
 // bitwise the inputs of `last` (so distance() would return last.result).
 bool same_search(const StateSeed::Search& last, const Affine& ta, const Affine& tb, const DistanceRequest& q) {
@@ -139,6 +147,11 @@ bool same_mesh(const Mesh& a, const Mesh& b) {
 
 }  // namespace
 
+Checker::InstanceId::InstanceId() {
+  static std::atomic<std::uint64_t> last{0};
+  value = last.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
 Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const Checker* reuse)
     : scene_(scene), motion_(scene) {
   std::vector<const Mesh*> meshes;
@@ -146,6 +159,7 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const
     names_.push_back(p.name);
     meshes.push_back(&p.mesh);
     chain_of_.push_back(p.moving() ? p.chain_id : -1);
+    if (p.moving()) moving_parts_.push_back(static_cast<int>(names_.size()) - 1);
   }
   // The terrain is a heightfield, never a BVH over its triangles. Its mesh
   // is drawn only to bound the minimum distance for pruning (below), and
@@ -273,6 +287,10 @@ Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const
     static_boxes_.emplace_back(w.lo, w.hi);
   }
   set_gap_rows();
+  if (terrain_ && terrain_->triangle_count() > 0) {
+    const Box t = terrain_root_box(*terrain_);
+    terrain_box_ = {t.lo, t.hi};
+  }
   // The parts of the verdict-only guard (check_pairs) that never move, with
   // the terrain, folded into one magnitude here, and every part's own-frame
   // magnitude: a state computes only its moving parts' world boxes' (a
@@ -305,14 +323,76 @@ void Checker::set_gap_rows() {
     int& g = group[static_cast<std::size_t>(p.a)];
     if (g < 0) {
       g = static_cast<int>(gap_rows_.size());
-      gap_rows_.push_back(GapRows{p.a, {}, {}});
+      gap_rows_.push_back(GapRows{});
+      gap_rows_.back().part = p.a;
     }
-    GapRows& rows = gap_rows_[static_cast<std::size_t>(g)];
-    rows.pairs.push_back(static_cast<std::uint32_t>(k));
-    const auto& [lo, hi] = static_boxes_[static_cast<std::size_t>(p.b)];
-    for (int i = 0; i < 3; ++i) {
-      rows.rows[static_cast<std::size_t>(i)].push_back(lo[i]);
-      rows.rows[static_cast<std::size_t>(3 + i)].push_back(hi[i]);
+    gap_rows_[static_cast<std::size_t>(g)].pairs.push_back(static_cast<std::uint32_t>(k));
+  }
+  // Clusters: the partners split in halves (an even count on the left, so
+  // two-pair steps stay whole) across the widest spread of their box
+  // centres, down to at most kClusterSize.
+  constexpr std::size_t kClusterSize = 4;
+  for (GapRows& rows : gap_rows_) {
+    const auto& boxes = static_boxes_;
+    const auto partner_box = [&](std::uint32_t k) -> const std::pair<Vec3, Vec3>& {
+      return boxes[static_cast<std::size_t>(pairs_[k].b)];
+    };
+    std::vector<std::uint32_t>& pairs = rows.pairs;
+    const auto split = [&](const auto& self, std::size_t begin, std::size_t end) -> void {
+      if (end - begin <= kClusterSize) {
+        rows.ends.push_back(static_cast<std::uint32_t>(end));
+        return;
+      }
+      Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+      for (std::size_t i = begin; i < end; ++i) {
+        const auto& [blo, bhi] = partner_box(pairs[i]);
+        lo = lo.cwiseMin(blo + bhi);
+        hi = hi.cwiseMax(blo + bhi);
+      }
+      int axis = 0;
+      (hi - lo).maxCoeff(&axis);
+      std::stable_sort(pairs.begin() + static_cast<std::ptrdiff_t>(begin), pairs.begin() + static_cast<std::ptrdiff_t>(end),
+                       [&](std::uint32_t x, std::uint32_t y) {
+                         const auto& [xlo, xhi] = partner_box(x);
+                         const auto& [ylo, yhi] = partner_box(y);
+                         return xlo[axis] + xhi[axis] < ylo[axis] + yhi[axis];
+                       });
+      const std::size_t half = ((end - begin + 1) / 2 + 1) / 2 * 2;
+      self(self, begin, begin + half);
+      self(self, begin + half, end);
+    };
+    split(split, 0, pairs.size());
+    // The unions, exact (minima and maxima of finite values).
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    rows.root = {kInf, kInf, kInf, -kInf, -kInf, -kInf};
+    std::size_t begin = 0;
+    for (std::uint32_t end : rows.ends) {
+      std::array<double, 6> u = {kInf, kInf, kInf, -kInf, -kInf, -kInf};
+      for (std::size_t j = begin; j < end; ++j) {
+        const auto& [lo, hi] = partner_box(pairs[j]);
+        for (std::size_t i = 0; i < 3; ++i) {
+          rows.rows[i].push_back(lo[static_cast<int>(i)]);
+          rows.rows[3 + i].push_back(hi[static_cast<int>(i)]);
+          u[i] = std::min(u[i], lo[static_cast<int>(i)]);
+          u[3 + i] = std::max(u[3 + i], hi[static_cast<int>(i)]);
+        }
+      }
+      for (std::size_t i = 0; i < 3; ++i) {
+        rows.cluster_rows[i].push_back(u[i]);
+        rows.cluster_rows[3 + i].push_back(u[3 + i]);
+        rows.root[i] = std::min(rows.root[i], u[i]);
+        rows.root[3 + i] = std::max(rows.root[3 + i], u[3 + i]);
+      }
+      begin = end;
+    }
+    // A NaN in a partner's box (a world object placed beyond the range of
+    // doubles) would be lost in a minimum: such a part's unions are NaN,
+    // whose gap is NaN, never apart.
+    bool nan = false;
+    for (std::uint32_t k : pairs) nan = nan || partner_box(k).first.hasNaN() || partner_box(k).second.hasNaN();
+    if (nan) {
+      rows.root.fill(std::numeric_limits<double>::quiet_NaN());
+      for (auto& row : rows.cluster_rows) std::fill(row.begin(), row.end(), std::numeric_limits<double>::quiet_NaN());
     }
   }
 }
@@ -532,40 +612,47 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     std::vector<std::uint32_t> touching;  // pairs whose boxes meet
     std::vector<std::size_t> last_order, sorted;  // sort_by_key's start and scratch
     std::vector<std::uint8_t> in_order;
+    std::uint64_t statics_of = 0;  // the checker whose static parts pose and box hold (0: none)
   };
   static thread_local Scratch scratch;
   std::vector<Affine>& chains = scratch.chains;
   chain_transforms(scene_, params, chains);
   const std::size_t n = models_.size();
-  static const Affine kIdentity = Affine::Identity();
   std::vector<const Affine*>& pose = scratch.pose;
-  pose.resize(n);
   std::vector<Box>& box = scratch.box;
-  box.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (chain_of_[i] >= 0) {
-      pose[i] = &chains[static_cast<std::size_t>(chain_of_[i])];
-      box[i] = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *pose[i]);
-      // A pose past the range of doubles (a translation or factor
-      // overflowing, a non-finite parameter) leaves no distance to settle:
-      // NaN would defeat every pruning test and the search would visit every
-      // triangle pair. It is refused, never checked and never "safe".
-      if (!(box[i].lo.allFinite() && box[i].hi.allFinite()))
-        throw InputError("a configuration poses part '" + names_[i] +
-                         "' beyond the range of doubles (a parameter or what it moves is not finite)");
-    } else {
-      pose[i] = &placement_[i];
-      box[i] = {static_boxes_[i].first, static_boxes_[i].second};
-    }
+  // The static parts' poses and boxes are the same in every state: the
+  // scratch keeps those of the checker that last used it (a copy of a
+  // checker is another checker: InstanceId), and a state writes only its
+  // moving parts'. (Copying the 26 static boxes of the default scene was a
+  // tenth of a collision-only state.)
+  if (scratch.statics_of != id_.value) {
+    pose.assign(n, nullptr);
+    box.assign(n + 1, Box{});
+    for (std::size_t i = 0; i < n; ++i)
+      if (chain_of_[i] < 0) {
+        pose[i] = &placement_[i];
+        box[i] = {static_boxes_[i].first, static_boxes_[i].second};
+      }
+    scratch.statics_of = id_.value;
+  }
+  for (int m : moving_parts_) {
+    const std::size_t i = static_cast<std::size_t>(m);
+    pose[i] = &chains[static_cast<std::size_t>(chain_of_[i])];
+    box[i] = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *pose[i]);
+    // A pose past the range of doubles (a translation or factor
+    // overflowing, a non-finite parameter) leaves no distance to settle:
+    // NaN would defeat every pruning test and the search would visit every
+    // triangle pair. It is refused, never checked and never "safe".
+    if (!(box[i].lo.allFinite() && box[i].hi.allFinite()))
+      throw InputError("a configuration poses part '" + names_[i] +
+                       "' beyond the range of doubles (a parameter or what it moves is not finite)");
   }
 
-  // The terrain's box: its pyramid's root, padded as a static part's box.
+  // The terrain's box: its pyramid's root (the undisturbed terrain's found
+  // once, at build).
   Box terrain_box;
-  if (terrain && terrain->triangle_count() > 0) {
-    double lo[3], hi[3];
-    terrain->block_box(static_cast<int>(terrain->levels().size()) - 1, 0, 0, lo, hi);
-    terrain_box = posed_box({Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}, kIdentity);
-  }
+  if (terrain && terrain->triangle_count() > 0)
+    terrain_box = terrain == terrain_.get() ? Box{terrain_box_.first, terrain_box_.second} : terrain_root_box(*terrain);
 
   // Largest coordinate of a part's boxes, world and own frame (the terrain:
   // its pyramid's root box): what the double distance's rounding scales with.
@@ -639,9 +726,16 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // those under `start`, often a handful) or, beyond it, the bound of the
   // skipped.
   std::vector<double>& lower = scratch.lower;
-  lower.assign(pairs_.size(), 0.0);
+  // (Collision only: written where read, in the pair loop.)
+  if (request.distance)
+    lower.assign(pairs_.size(), 0.0);
+  else
+    lower.resize(pairs_.size());
+  // The pairs apart, in visiting order: written by index, not push_back
+  // (which GCC stops inlining in a function this long), sized at the end.
   std::vector<std::size_t>& order = scratch.order;
-  order.clear();
+  order.resize(pairs_.size());
+  std::size_t ordered = 0;
   // Verdict-only without a seed, a pair beyond `start` needs no square
   // root of its box gap: nothing reads its lower bound but the skipped
   // pairs' minimum, and the least square root is the root of the least
@@ -659,7 +753,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // A pair apart (box gap squared g2, lower bound l) in the distance search.
   auto place = [&](std::size_t k, double l, double g2) {
     if (!verdict_only || l < start)
-      order.push_back(k);
+      order[ordered++] = k;
     else
       skipped = std::min(skipped, lazy ? g2 : l);
   };
@@ -675,10 +769,10 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // Every pair's box gap (squared) first, in one pass without branches
   // (the terrain's box in the terrain's slot, n), listing the pairs whose
   // boxes meet. Without distances a pair whose boxes are apart does nothing
-  // below (its bound is never read), so only those pairs are visited: the
-  // collision-only check of the default plans spent most of a state in this
-  // loop's branches over 138 pairs, about ten of them touching.
-  box.resize(n + 1);
+  // below (its bound is never read), so only those pairs are visited, and
+  // only the pairs whose boxes may meet get a gap: the cold states of the
+  // default plans have 138 pairs, fewer than one of them touching on
+  // average (the collision-only check spent most of a state in this pass).
   box[n] = terrain_box;
   const std::size_t pair_count = pairs_.size();
   std::vector<double>& gap2 = scratch.gap2;
@@ -687,43 +781,113 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   touching.resize(pair_count);
   std::size_t touching_count = 0;
   // A moving part against its static partners: the rows of their boxes,
-  // two pairs at a time, with box_gap2's operations in its order.
+  // two pairs at a time, with box_gap2's operations in its order; a pair
+  // joins `touching` (without a branch) when !(gap2 > 0), in the order of
+  // the rows, sorted into pair order below.
+  const bool with_distance = request.distance;
   for (const GapRows& g : gap_rows_) {
     const Box& m = box[static_cast<std::size_t>(g.part)];
-    const std::size_t count = g.pairs.size();
-    const double* lo[3] = {g.rows[0].data(), g.rows[1].data(), g.rows[2].data()};
-    const double* hi[3] = {g.rows[3].data(), g.rows[4].data(), g.rows[5].data()};
-    std::size_t j = 0;
+    // The moving box in locals: the stores into gap2 below may alias it
+    // as far as the compiler knows, which would reload it every step.
+    const double mlo[3] = {m.lo[0], m.lo[1], m.lo[2]};
+    const double mhi[3] = {m.hi[0], m.hi[1], m.hi[2]};
 #if defined(__SSE2__)
-    for (; j + 2 <= count; j += 2) {
+    const __m128d ml[3] = {_mm_set1_pd(mlo[0]), _mm_set1_pd(mlo[1]), _mm_set1_pd(mlo[2])};
+    const __m128d mh[3] = {_mm_set1_pd(mhi[0]), _mm_set1_pd(mhi[1]), _mm_set1_pd(mhi[2])};
+    // Two gaps, squared, of the moving box to boxes j and j + 1 of `rows`.
+    const auto gaps2 = [&](const std::array<std::vector<double>, 6>& rows, std::size_t j) {
       __m128d sq[3];
-      for (int i = 0; i < 3; ++i) {
-        const __m128d u = _mm_sub_pd(_mm_set1_pd(m.lo[i]), _mm_loadu_pd(hi[i] + j));
-        const __m128d v = _mm_sub_pd(_mm_loadu_pd(lo[i] + j), _mm_set1_pd(m.hi[i]));
+      for (std::size_t i = 0; i < 3; ++i) {
+        const __m128d u = _mm_sub_pd(ml[i], _mm_loadu_pd(rows[3 + i].data() + j));
+        const __m128d v = _mm_sub_pd(_mm_loadu_pd(rows[i].data() + j), mh[i]);
         const __m128d d = _mm_max_pd(_mm_setzero_pd(), _mm_max_pd(v, u));
         sq[i] = _mm_mul_pd(d, d);
       }
-      const __m128d s = _mm_add_pd(_mm_add_pd(sq[0], sq[1]), sq[2]);
-      gap2[g.pairs[j]] = _mm_cvtsd_f64(s);
-      gap2[g.pairs[j + 1]] = _mm_cvtsd_f64(_mm_unpackhi_pd(s, s));
-    }
+      return _mm_add_pd(_mm_add_pd(sq[0], sq[1]), sq[2]);
+    };
 #endif
-    for (; j < count; ++j) {
+    // The gap, squared, of the moving box to box j of `rows`.
+    const auto gap2_of = [&](const std::array<std::vector<double>, 6>& rows, std::size_t j) {
       double sq[3];
-      for (int i = 0; i < 3; ++i) {
-        const double d = max0(std::max(m.lo[i] - hi[i][j], lo[i][j] - m.hi[i]));
+      for (std::size_t i = 0; i < 3; ++i) {
+        const double d = max0(std::max(mlo[i] - rows[3 + i][j], rows[i][j] - mhi[i]));
         sq[i] = d * d;
       }
-      gap2[g.pairs[j]] = (sq[0] + sq[1]) + sq[2];
+      return (sq[0] + sq[1]) + sq[2];
+    };
+    // The pairs of rows [begin, end): their gaps, and those that meet.
+    const auto pair_gaps = [&](std::size_t begin, std::size_t end) {
+      const std::uint32_t* pairs = g.pairs.data();
+      std::size_t j = begin;
+#if defined(__SSE2__)
+      for (; j + 2 <= end; j += 2) {
+        const __m128d s = gaps2(g.rows, j);
+        const std::uint32_t k0 = pairs[j], k1 = pairs[j + 1];
+        gap2[k0] = _mm_cvtsd_f64(s);
+        gap2[k1] = _mm_cvtsd_f64(_mm_unpackhi_pd(s, s));
+        // Lanes with !(s > 0): NaN too, as the scalar test below.
+        const int meet = _mm_movemask_pd(_mm_cmpngt_pd(s, _mm_setzero_pd()));
+        touching[touching_count] = k0;
+        touching_count += static_cast<std::size_t>(meet & 1);
+        touching[touching_count] = k1;
+        touching_count += static_cast<std::size_t>(meet >> 1);
+      }
+#endif
+      for (; j < end; ++j) {
+        const double g2 = gap2_of(g.rows, j);
+        gap2[pairs[j]] = g2;
+        touching[touching_count] = pairs[j];
+        touching_count += !(g2 > 0.0);
+      }
+    };
+    if (with_distance) {
+      pair_gaps(0, g.pairs.size());  // every pair's gap is a lower bound the search reads
+      continue;
     }
+    // Collision only: the pairs of the clusters whose union meets the
+    // moving box. Apart from a union is apart from every box in it: each
+    // axis' difference is monotone in the box's bound (rounding is), so
+    // each partner's gap squared is at least the union's, which is > 0.
+    // The other pairs' gaps are not written (nothing reads them).
+    {
+      double sq[3];
+      for (std::size_t i = 0; i < 3; ++i) {
+        const double d = max0(std::max(mlo[i] - g.root[3 + i], g.root[i] - mhi[i]));
+        sq[i] = d * d;
+      }
+      if ((sq[0] + sq[1]) + sq[2] > 0.0) continue;
+    }
+    const std::size_t clusters = g.ends.size();
+    const auto cluster = [&](std::size_t c) { pair_gaps(c == 0 ? 0 : g.ends[c - 1], g.ends[c]); };
+    std::size_t c = 0;
+#if defined(__SSE2__)
+    for (; c + 2 <= clusters; c += 2) {
+      const int meet = _mm_movemask_pd(_mm_cmpngt_pd(gaps2(g.cluster_rows, c), _mm_setzero_pd()));
+      if (meet & 1) cluster(c);
+      if (meet & 2) cluster(c + 1);
+    }
+#endif
+    for (; c < clusters; ++c)
+      if (!(gap2_of(g.cluster_rows, c) > 0.0)) cluster(c);
   }
-  for (std::uint32_t k : other_gap_pairs_)
-    gap2[k] = box_gap2(box[static_cast<std::size_t>(pairs_[k].a)], box[static_cast<std::size_t>(pairs_[k].b)]);
-  for (std::size_t k = 0; k < pair_count; ++k) {
-    touching[touching_count] = static_cast<std::uint32_t>(k);
-    touching_count += !(gap2[k] > 0.0);
+  for (std::uint32_t k : other_gap_pairs_) {
+    const double g2 = box_gap2(box[static_cast<std::size_t>(pairs_[k].a)], box[static_cast<std::size_t>(pairs_[k].b)]);
+    gap2[k] = g2;
+    touching[touching_count] = k;
+    touching_count += !(g2 > 0.0);
   }
-  const bool with_distance = request.distance;
+  // Pair order (the order contacts are found and listed in): a few pairs
+  // as a rule, so an insertion sort; std::sort when many boxes meet.
+  if (touching_count <= 32) {
+    for (std::size_t i = 1; i < touching_count; ++i) {
+      const std::uint32_t x = touching[i];
+      std::size_t j = i;
+      for (; j > 0 && touching[j - 1] > x; --j) touching[j] = touching[j - 1];
+      touching[j] = x;
+    }
+  } else {
+    std::sort(touching.begin(), touching.begin() + static_cast<std::ptrdiff_t>(touching_count));
+  }
   const std::size_t visits = with_distance ? pair_count : touching_count;
   bool contact_done = false;  // the first contact is in, the rest need only their bounds
   for (std::size_t v = 0; v < visits; ++v) {
@@ -734,7 +898,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     // (an empty, inverted box), take no part.
     if (empty || (on_terrain ? (which == kNonTerrainPairs || !terrain_live) : which == kTerrainPairs)) {
       lower[k] = std::numeric_limits<double>::infinity();
-      if (with_distance && !verdict_only) order.push_back(k);
+      if (with_distance && !verdict_only) order[ordered++] = k;
       continue;
     }
     const double g2 = gap2[k];
@@ -772,6 +936,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     }
     if (with_distance) place(k, l, g2);
   }
+  order.resize(ordered);
   out.collision = !out.contacts.empty();
   out.limit_action = first_limit_violation(scene_, params);
   if (!request.distance) {
@@ -1042,18 +1207,6 @@ void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std
   for (int i : parts)
     if (i >= 0 && static_cast<std::size_t>(i) < n) pose_one(static_cast<std::size_t>(i));
 }
-
-namespace {
-
-// The terrain's box: its pyramid's root, padded as a static part's box (as
-// check_pairs computes it).
-Box terrain_root_box(const Heightfield& terrain) {
-  double lo[3], hi[3];
-  terrain.block_box(static_cast<int>(terrain.levels().size()) - 1, 0, 0, lo, hi);
-  return posed_box({Vec3(lo[0], lo[1], lo[2]), Vec3(hi[0], hi[1], hi[2])}, Affine::Identity());
-}
-
-}  // namespace
 
 bool Checker::pair_collides(const PosedParts& posed, std::size_t k) const {
   const PairRef& p = pairs_[k];

@@ -13,7 +13,14 @@
 namespace plancheck {
 
 double pose_value(const Action& action, double written) {
-  if (action.whole_turn > 0.0) return std::remainder(written, action.whole_turn) * action.unit_to_si;
+  if (action.whole_turn > 0.0) {
+    // remainder(x, y) is x - n y, n the integer nearest x / y (exact, as
+    // IEEE 754 defines it): x itself, zero's sign kept, when |x| < y / 2.
+    // 2 |x| is exact (or infinite, and not below y), so the test is exact;
+    // it skips the library call for every angle within half a turn.
+    const double x = 2.0 * std::abs(written) < action.whole_turn ? written : std::remainder(written, action.whole_turn);
+    return x * action.unit_to_si;
+  }
   return written * action.unit_to_si;
 }
 

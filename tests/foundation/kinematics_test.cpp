@@ -9,10 +9,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <random>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace plancheck {
 namespace {
@@ -216,6 +218,40 @@ TEST(Kinematics, WholeTurnsInDegreesPoseExactlyAndOnlyThePose) {
   const Scene mm = load_scene(write_arm_scene(dir, "mm", 1000.0, "rad"));
   EXPECT_EQ(pose_value(mm.actions[0], 7.0), 7.0);     // radians: not reduced (a turn is not a double)
   EXPECT_EQ(pose_value(mm.actions[2], 250.0), 0.25);  // millimetres to metres
+}
+
+// pose_value skips std::remainder within half a turn (where the remainder
+// is the angle itself): bit for bit the library's answer everywhere, at the
+// half turns, signed zeros, the nearest doubles around them, subnormals,
+// huge, infinite and NaN angles, and random ones.
+TEST(Kinematics, PoseValueIsTheRemainderBitForBit) {
+  testing::TempDir dir;
+  const Scene s = load_scene(write_arm_scene(dir, "m", 1.0, "deg"));
+  const Action& j1 = s.actions[0];
+  ASSERT_EQ(j1.whole_turn, 360.0);
+  const auto bits = [](double x) {
+    std::uint64_t b;
+    std::memcpy(&b, &x, sizeof b);
+    return b;
+  };
+  std::vector<double> angles = {0.0, -0.0, 180.0, -180.0, 179.99999999999997, 360.0, -360.0, 540.0, -540.0,
+                                1e300, -1e300, std::numeric_limits<double>::denorm_min(),
+                                -std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::max(),
+                                std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                                std::numeric_limits<double>::quiet_NaN()};
+  for (double h : {180.0, 360.0, 540.0, 90.0})
+    for (double sign : {1.0, -1.0}) {
+      const double x = sign * h;
+      angles.push_back(std::nextafter(x, 0.0));
+      angles.push_back(std::nextafter(x, 2 * x));
+    }
+  std::mt19937_64 rng(33005);
+  std::uniform_real_distribution<double> near(-400.0, 400.0), far(-1e6, 1e6);
+  for (int i = 0; i < 20000; ++i) angles.push_back(i % 2 ? near(rng) : far(rng));
+  for (double x : angles) {
+    const double want = std::remainder(x, 360.0) * j1.unit_to_si;
+    EXPECT_EQ(bits(pose_value(j1, x)), bits(want)) << x;
+  }
 }
 
 TEST(Kinematics, LimitsCompareAsWritten) {
