@@ -334,9 +334,18 @@ namespace {
 constexpr double kRel = 1.0;
 constexpr double kMinRel = 0.01;
 // A sample asks for kAsk of the way from the target to the pair's estimated
-// distance, searched up to kCap of it.
+// distance, searched up to kCap of it (kRel at most). Estimates: at an end,
+// its lower bound (the state's least distance or the pair's box gap; asking
+// beyond it finds something and costs most); where a search found
+// something, that distance; where it found nothing, twice what it searched.
 constexpr double kAsk = 0.5;
 constexpr double kCap = 0.85;
+constexpr double kGrow = 2.0;
+// A gap that samples placed by the estimate would need more than kProbe of
+// is probed in its middle first, asked only what the estimate allows: a
+// pair on its way into a violation meets it there (as halving would) rather
+// than creeping towards it in ever shorter steps.
+constexpr double kProbe = 4.0;
 }  // namespace
 
 SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std::vector<double>& qb,
@@ -446,8 +455,8 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
       const auto [a, b] = pairs_[k];
       const double rate = p.rate;
       const double va = std::max(p.gap_a, floor_a), vb = std::max(p.gap_b, floor_b);
-      Point cur{0.0, va, p.guard_a, 2.0 * va};
-      rights.assign(1, Point{1.0, vb, p.guard_b, 2.0 * vb});
+      Point cur{0.0, va, p.guard_a, va};
+      rights.assign(1, Point{1.0, vb, p.guard_b, vb});
       // A pair marches no further than the least witness found so far.
       const double stop = best ? best->t : 2.0;
       while (!rights.empty() && cur.t < stop) {
@@ -473,7 +482,13 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
         const double est = std::min(cur.e, r.e);
         const double x_est = T + kAsk * (est - T);
         double tm = 0.5 * (gap_lo + gap_hi);
-        if (T + 0.5 * rate * (gap_hi - gap_lo) > x_est) tm = std::min(tm, gap_lo + (x_est - T) / rate);
+        bool probe = false;
+        if (T + 0.5 * rate * (gap_hi - gap_lo) > x_est) {
+          if (rate * (gap_hi - gap_lo) > kProbe * 2.0 * (x_est - T))
+            probe = true;
+          else
+            tm = std::min(tm, gap_lo + (x_est - T) / rate);
+        }
         if (!(tm > cur.t && tm < r.t)) tm = 0.5 * (cur.t + r.t);
         if (out.steps >= options_.max_steps || !(tm > cur.t && tm < r.t)) {
           // Cannot be settled: a violation without a witness, never a false
@@ -502,6 +517,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
         // middle, [tm, r] too.
         double need = std::max(limit, 2.0 * T + rate * (tm - cur.t) - cur.v);
         if (tm - gap_lo >= 0.5 * (gap_hi - gap_lo)) need = std::max(need, 2.0 * T + rate * (r.t - tm) - r.v);
+        if (probe) need = std::max(limit, x_est);
         need += 2.0 * (g + kDistanceTieTolerance) + 1e-12 * std::abs(need);
         // Searched within a factor of the need up to a little short of the
         // estimate, so that a pair as far as estimated is proven at once.
@@ -546,7 +562,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
         // Found something: the pair is about that far here; nothing found:
         // perhaps much farther.
         const double e = answer.upper < std::numeric_limits<double>::infinity() ? answer.upper
-                                                                                 : 2.0 * need * (1.0 + rel);
+                                                                                 : kGrow * need * (1.0 + rel);
         rights.push_back(Point{tm, answer.distance, answer.guard, e});
       }
     }
