@@ -96,7 +96,12 @@ void two_passes(double margin, const ContinuousOptions& options, const bool& gav
 }  // namespace
 
 SegmentChecker::SegmentChecker(const Checker& checker, const Scene& scene, const ContinuousOptions& options)
-    : checker_(checker), bound_(scene), pairs_(checker.pairs()), margin_(scene.safety_margin), options_(options) {
+    : checker_(checker),
+      bound_(scene),
+      pairs_(checker.pairs()),
+      plan_(bound_.pair_plan(pairs_)),
+      margin_(scene.safety_margin),
+      options_(options) {
   for (const auto& [a, b] : pairs_)
     for (int p : {a, b})
       if (static_cast<std::size_t>(p) < scene.parts.size() && scene.parts[static_cast<std::size_t>(p)].moving() &&
@@ -141,7 +146,7 @@ double SegmentChecker::first_limit() const {
 
 double SegmentChecker::end_limit(const std::vector<double>& qa, const std::vector<double>& qb) const {
   thread_local std::vector<double> bounds;
-  bound_.pair_bounds(pairs_, qa, qb, bounds);
+  bound_.pair_bounds(plan_, qa, qb, bounds);
   return end_limit(bounds);
 }
 
@@ -356,7 +361,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   out.checked = true;
   const std::size_t np = pairs_.size();
   std::vector<double> bounds;
-  bound_.pair_bounds(pairs_, qa, qb, bounds);
+  bound_.pair_bounds(plan_, qa, qb, bounds);
   const double e_limit = end_limit(bounds);
   // Per pair: how much its distance can change per unit of t (padded for
   // the product with a sub-interval's length), its ends' box gaps and

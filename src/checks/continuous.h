@@ -124,6 +124,7 @@ class SegmentChecker {
   const Checker& checker_;
   MotionBound bound_;
   std::vector<std::pair<int, int>> pairs_;
+  MotionBound::PairPlan plan_;  // pairs_ for MotionBound::pair_bounds
   std::vector<int> moving_;  // parts of some pair that have a chain
   double margin_;
   ContinuousOptions options_;
