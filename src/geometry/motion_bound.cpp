@@ -77,22 +77,7 @@ double MotionBound::pair_bound(int a, int b, std::span<const double> qa, std::sp
 
 void MotionBound::pair_bounds(const std::vector<std::pair<int, int>>& pairs, std::span<const double> qa,
                               std::span<const double> qb, std::vector<double>& out) const {
-  // (part, shared prefix) -> bound_from, for this motion.
-  thread_local std::vector<std::pair<std::pair<int, std::size_t>, double>> memo;
-  memo.clear();
-  auto from = [&](int part, std::size_t common) {
-    for (const auto& [key, v] : memo)
-      if (key.first == part && key.second == common) return v;
-    const double v = bound_from(part, common, qa, qb);
-    memo.push_back({{part, common}, v});
-    return v;
-  };
-  out.resize(pairs.size());
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const auto [a, b] = pairs[k];
-    const std::size_t common = shared_actions(a, b);
-    out[k] = from(a, common) + from(b, common);
-  }
+  pair_bounds(pair_plan(pairs), qa, qb, out);
 }
 
 MotionBound::PairPlan MotionBound::pair_plan(const std::vector<std::pair<int, int>>& pairs) const {
