@@ -323,16 +323,19 @@ SegmentResult SegmentChecker::run(const std::vector<double>& qa, const std::vect
 // distance can change over it (MotionBound::pair_bound: its two parts'
 // motion relative to each other, times the sub-interval's share of the
 // segment), its distance stays at least min(la, lb, (la + lb - M_k) / 2).
-// A pair whose bound clears the target drops out of the sub-interval; only
-// the pairs left are posed and asked at its midpoint, each only up to the
-// distance that would certify both halves for it (beyond, a bound from its
-// BVH search or box gap suffices), each search started from that pair's
-// closest triangles found before on the segment.
+// Each pair marches along the segment on its own, left to right: a piece
+// whose bound clears the target is certified; otherwise one sample (only
+// that pair's two parts posed) goes where the pieces' ends stop covering it,
+// placed and asked by the pair's estimated distance (see kAsk below), each
+// search started from that pair's closest triangles found before on the
+// segment. Halving the whole segment instead asked every pair, at the
+// midpoint of every long span, for far more than its distance: the dearest
+// searches, certifying nothing. The witness is the least t any pair finds.
 //
 // At the ends every pair is at least its box gap and min(its state's least
 // distance, end_limit): the same numbers whether the end states were checked
 // fully or verdict-only, so both modes take the same steps and find the
-// same witness. Midpoints are asked the same questions in both modes.
+// same witness. Samples are asked the same questions in both modes.
 namespace {
 // The relative tolerance of the motion checks' pair searches: at most kRel,
 // at least kMinRel.
