@@ -96,7 +96,12 @@ void two_passes(double margin, const ContinuousOptions& options, const bool& gav
 }  // namespace
 
 SegmentChecker::SegmentChecker(const Checker& checker, const Scene& scene, const ContinuousOptions& options)
-    : checker_(checker), bound_(scene), pairs_(checker.pairs()), margin_(scene.safety_margin), options_(options) {
+    : checker_(checker),
+      bound_(scene),
+      pairs_(checker.pairs()),
+      plan_(bound_.pair_plan(pairs_)),
+      margin_(scene.safety_margin),
+      options_(options) {
   for (const auto& [a, b] : pairs_)
     for (int p : {a, b})
       if (static_cast<std::size_t>(p) < scene.parts.size() && scene.parts[static_cast<std::size_t>(p)].moving() &&
@@ -141,7 +146,7 @@ double SegmentChecker::first_limit() const {
 
 double SegmentChecker::end_limit(const std::vector<double>& qa, const std::vector<double>& qb) const {
   thread_local std::vector<double> bounds;
-  bound_.pair_bounds(pairs_, qa, qb, bounds);
+  bound_.pair_bounds(plan_, qa, qb, bounds);
   return end_limit(bounds);
 }
 
@@ -318,19 +323,37 @@ SegmentResult SegmentChecker::run(const std::vector<double>& qa, const std::vect
 // distance can change over it (MotionBound::pair_bound: its two parts'
 // motion relative to each other, times the sub-interval's share of the
 // segment), its distance stays at least min(la, lb, (la + lb - M_k) / 2).
-// A pair whose bound clears the target drops out of the sub-interval; only
-// the pairs left are posed and asked at its midpoint, each only up to the
-// distance that would certify both halves for it (beyond, a bound from its
-// BVH search or box gap suffices), each search started from that pair's
-// closest triangles found before on the segment.
+// Each pair marches along the segment on its own, left to right: a piece
+// whose bound clears the target is certified; otherwise one sample (only
+// that pair's two parts posed) goes where the pieces' ends stop covering it,
+// placed and asked by the pair's estimated distance (see kAsk below), each
+// search started from that pair's closest triangles found before on the
+// segment. Halving the whole segment instead asked every pair, at the
+// midpoint of every long span, for far more than its distance: the dearest
+// searches, certifying nothing. The witness is the least t any pair finds.
 //
 // At the ends every pair is at least its box gap and min(its state's least
 // distance, end_limit): the same numbers whether the end states were checked
 // fully or verdict-only, so both modes take the same steps and find the
-// same witness. Midpoints are asked the same questions in both modes.
+// same witness. Samples are asked the same questions in both modes.
 namespace {
-// The relative tolerance of the motion checks' pair searches.
+// The relative tolerance of the motion checks' pair searches: at most kRel,
+// at least kMinRel.
 constexpr double kRel = 1.0;
+constexpr double kMinRel = 0.01;
+// A sample asks for kAsk of the way from the target to the pair's estimated
+// distance, searched up to kCap of it (kRel at most). Estimates: at an end,
+// its lower bound (the state's least distance or the pair's box gap; asking
+// beyond it finds something and costs most); where a search found
+// something, that distance; where it found nothing, twice what it searched.
+constexpr double kAsk = 0.5;
+constexpr double kCap = 0.85;
+constexpr double kGrow = 2.0;
+// A gap that samples placed by the estimate would need more than kProbe of
+// is probed in its middle first, asked only what the estimate allows: a
+// pair on its way into a violation meets it there (as halving would) rather
+// than creeping towards it in ever shorter steps.
+constexpr double kProbe = 4.0;
 }  // namespace
 
 SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std::vector<double>& qb,
@@ -341,7 +364,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   out.checked = true;
   const std::size_t np = pairs_.size();
   std::vector<double> bounds;
-  bound_.pair_bounds(pairs_, qa, qb, bounds);
+  bound_.pair_bounds(plan_, qa, qb, bounds);
   const double e_limit = end_limit(bounds);
   // Per pair: how much its distance can change per unit of t (padded for
   // the product with a sub-interval's length), its ends' box gaps and
@@ -404,117 +427,132 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     if (!e->bound) note_sample(e->d, e->a, e->b);
   const double floor_a = std::min(end0.d, e_limit), floor_b = std::min(end1.d, e_limit);
 
-  struct Item {
-    std::uint32_t k;
-    double la, lb, ga, gb;  // lower bounds on the pair's distance at the span's ends, their guards
+  // One pair's samples on the segment: a lower bound v on its distance at t,
+  // that bound's guard g, and e, an estimate of its distance near t (where
+  // the next sample is placed; never a bound).
+  struct Point {
+    double t, v, g, e;
   };
-  struct Span {
-    double ta, tb;
-    std::size_t begin;  // its items: arena[begin, the next span's begin or the arena's end)
-  };
-  std::vector<Item> arena, active;
-  std::vector<Span> stack;
-  std::vector<double> mid_value, mid_guard;
-  std::vector<int> parts;
+  std::vector<Point> rights;  // the pair's samples right of the certified prefix, nearest last
+  std::vector<int> two(2);
   bool gave_up = false;
 
   struct Witness {
     double t;
     int a, b;
   };
-  // Where the first pass's certificate from t = 0 stops: spans are taken
-  // left first, so when span [ta, tb] is taken everything before ta is
-  // certified; a witness or the budget stops it at that span's ta.
+  // Where the first pass's certificate from t = 0 stops: the least prefix
+  // any pair certified before its witness, or before the budget ran out (0
+  // at a witness at an end).
   double reached = 0.0;
   bool first_pass = true;
-  auto item_bound = [&](const Item& it, double len) {
-    const double m = pd[it.k].rate * len;
-    return std::min({it.la, it.lb, 0.5 * (it.la + it.lb - m)});
+  auto piece_bound = [&](const Point& x, const Point& y, double rate) {
+    return std::min({x.v, y.v, 0.5 * (x.v + y.v - rate * (y.t - x.t))});
   };
-  // One pass against `target` (as the reference's certify): the first
-  // witness found, or nothing when every pair is certified on every piece
-  // (or the budget ran out: gave_up); `lower` gets the least bound.
+  // One pass against `target` (as the reference's certify): the witness of
+  // least t found, or nothing when every pair is certified on the whole
+  // segment (or the budget ran out: gave_up); `lower` gets the least bound.
   auto certify = [&](double target, double limit, bool contact, double& lower) -> std::optional<Witness> {
     for (const Sample* e : {&end0, &end1})
       if ((contact && e->collision) || e->d < limit) return Witness{e->t, e->a, e->b};
-    arena.clear();
-    stack.clear();
-    for (std::size_t k = 0; k < np; ++k)
-      if (pd[k].live)
-        arena.push_back({static_cast<std::uint32_t>(k), std::max(pd[k].gap_a, floor_a), std::max(pd[k].gap_b, floor_b),
-                         pd[k].guard_a, pd[k].guard_b});
-    stack.push_back({0.0, 1.0, 0});
-    while (!stack.empty()) {
-      const Span sp = stack.back();
-      stack.pop_back();
-      const double len = sp.tb - sp.ta;
-      active.clear();
-      for (std::size_t i = sp.begin; i < arena.size(); ++i) {
-        const Item& it = arena[i];
-        const double lb = item_bound(it, len);
-        if (lb >= target + std::max(it.ga, it.gb))
+    std::optional<Witness> best;
+    double until_here = 1.0;
+    for (std::size_t k = 0; k < np; ++k) {
+      PairData& p = pd[k];
+      if (!p.live) continue;
+      const auto [a, b] = pairs_[k];
+      const double rate = p.rate;
+      const double va = std::max(p.gap_a, floor_a), vb = std::max(p.gap_b, floor_b);
+      Point cur{0.0, va, p.guard_a, va};
+      rights.assign(1, Point{1.0, vb, p.guard_b, vb});
+      // A pair marches no further than the least witness found so far.
+      const double stop = best ? best->t : 2.0;
+      while (!rights.empty() && cur.t < stop) {
+        const Point& r = rights.back();
+        const double g = std::max(cur.g, r.g);
+        const double lb = piece_bound(cur, r, rate);
+        if (lb >= target + g) {
           lower = std::min(lower, lb);
-        else
-          active.push_back(it);
-      }
-      arena.resize(sp.begin);
-      if (active.empty()) continue;
-      const double tm = 0.5 * (sp.ta + sp.tb);
-      if (first_pass) reached = sp.ta;
-      if (out.steps >= options_.max_steps || !(tm > sp.ta && tm < sp.tb)) {
-        // Cannot be settled: a violation without a witness, never a false
-        // safe; what is left unsettled is bounded as it stands.
-        gave_up = true;
-        auto settle = [&](const Item& it, double l) {
-          const double b = item_bound(it, l);
-          lower = std::min(lower, std::isfinite(b) ? std::max(b, 0.0) : 0.0);
-        };
-        for (const Item& it : active) settle(it, len);
-        for (std::size_t j = 0; j < stack.size(); ++j) {
-          const std::size_t end = j + 1 < stack.size() ? stack[j + 1].begin : arena.size();
-          for (std::size_t i = stack[j].begin; i < end; ++i) settle(arena[i], stack[j].tb - stack[j].ta);
+          cur = r;
+          rights.pop_back();
+          continue;
         }
-        return std::nullopt;
-      }
-      ++out.steps;
-      const std::vector<double>& at = point(tm);
-      parts.clear();
-      for (const Item& it : active)
-        for (int p : {pairs_[it.k].first, pairs_[it.k].second})
-          if (std::find(parts.begin(), parts.end(), p) == parts.end()) parts.push_back(p);
-      checker_.pose_parts(at, posed, parts);
-      mid_value.resize(active.size());
-      mid_guard.resize(active.size());
-      for (std::size_t i = 0; i < active.size(); ++i) {
-        const Item& it = active[i];
-        PairData& p = pd[it.k];
-        const auto [a, b] = pairs_[it.k];
-        const double half = 0.5 * p.rate * len;
-        const double g = std::max(it.ga, it.gb);
-        // Proven apart here by either end: no collision test needed.
-        const double apart = std::max(it.la, it.lb) - half - g;
-        if (!(apart > 0.0) && checker_.pair_collides(posed, it.k)) {
-          note_sample(0.0, a, b);
-          return Witness{tm, a, b};
+        // Where the piece is not covered: each end's bound certifies the
+        // pair for (v - target) / rate either side of it. One sample in the
+        // middle of that gap when the pair's estimated distance would cover
+        // it; else one that covers only what that estimate allows from the
+        // left, so that its search is likely to prove what it is asked (a
+        // search asked beyond the pair's distance costs most and certifies
+        // nothing; halving spans asks that on every long one).
+        const double T = target + g;
+        const double ra = std::max(0.0, (cur.v - T) / rate), rb = std::max(0.0, (r.v - T) / rate);
+        const double gap_lo = cur.t + ra, gap_hi = r.t - rb;
+        const double est = std::min(cur.e, r.e);
+        const double x_est = T + kAsk * (est - T);
+        double tm = 0.5 * (gap_lo + gap_hi);
+        bool probe = false;
+        if (T + 0.5 * rate * (gap_hi - gap_lo) > x_est) {
+          if (rate * (gap_hi - gap_lo) > kProbe * 2.0 * (x_est - T))
+            probe = true;
+          else
+            tm = std::min(tm, gap_lo + (x_est - T) / rate);
         }
-        // Asked only up to what certifies both halves for this pair (the
-        // slack covers what pair_distance takes off a bound it proves), and
-        // within a factor 1 + kRel: a search within a factor costs little
-        // at long range, where an exact one is dear. Its lower bound
-        // decides; an exact distance only where that bound is below the
-        // limit (a witness is always an exact distance).
-        double need = std::max(limit, 2.0 * (target + g) + half - std::min(it.la, it.lb));
+        if (!(tm > cur.t && tm < r.t)) tm = 0.5 * (cur.t + r.t);
+        if (out.steps >= options_.max_steps || !(tm > cur.t && tm < r.t)) {
+          // Cannot be settled: a violation without a witness, never a false
+          // safe; what is left unsettled is bounded as it stands.
+          gave_up = true;
+          auto settle = [&](double l) { lower = std::min(lower, std::isfinite(l) ? std::max(l, 0.0) : 0.0); };
+          for (std::size_t i = rights.size(); i-- > 0;) {
+            settle(piece_bound(cur, rights[i], rate));
+            cur = rights[i];
+          }
+          until_here = std::min(until_here, rights.empty() ? cur.t : 0.0);
+          for (std::size_t j = k + 1; j < np; ++j) {
+            if (!pd[j].live) continue;
+            const Point x{0.0, std::max(pd[j].gap_a, floor_a), pd[j].guard_a, 0.0};
+            const Point y{1.0, std::max(pd[j].gap_b, floor_b), pd[j].guard_b, 0.0};
+            const double l = piece_bound(x, y, pd[j].rate);
+            settle(l);
+            if (!(l >= target + std::max(x.g, y.g))) until_here = 0.0;
+          }
+          if (first_pass) reached = std::min(until_here, best ? best->t : 1.0);
+          return best;
+        }
+        ++out.steps;
+        // Its bound must certify [cur, tm] (the slack covers what
+        // pair_distance takes off a bound it proves); one in the gap's
+        // middle, [tm, r] too.
+        double need = std::max(limit, 2.0 * T + rate * (tm - cur.t) - cur.v);
+        if (tm - gap_lo >= 0.5 * (gap_hi - gap_lo)) need = std::max(need, 2.0 * T + rate * (r.t - tm) - r.v);
+        if (probe) need = std::max(limit, x_est);
         need += 2.0 * (g + kDistanceTieTolerance) + 1e-12 * std::abs(need);
+        // Searched within a factor of the need up to a little short of the
+        // estimate, so that a pair as far as estimated is proven at once.
+        const double cap = T + kCap * (est - T);
+        const double rel = std::clamp(cap / need - 1.0, kMinRel, kRel);
+        const std::vector<double>& at = point(tm);
+        two[0] = a;
+        two[1] = b;
+        checker_.pose_parts(at, posed, two);
+        // Proven apart here by either neighbour: no collision test needed.
+        const double apart = std::max(cur.v - rate * (tm - cur.t), r.v - rate * (r.t - tm)) - g;
+        if (!(apart > 0.0) && checker_.pair_collides(posed, k)) {
+          note_sample(0.0, a, b);
+          if (!best || tm < best->t) best = Witness{tm, a, b};
+          until_here = std::min(until_here, cur.t);
+          break;
+        }
         answer = PairAnswer{};
         answer.seeded = p.seeded;
         answer.slot_a = p.slot_a;
         answer.slot_b = p.slot_b;
-        checker_.pair_distance(posed, it.k, need * (1.0 + kRel), answer, false, kRel);
+        checker_.pair_distance(posed, k, need * (1.0 + rel), answer, false, rel);
         if (answer.distance < limit) {
           // Something within the factor of the limit was found (a bound
           // proven from nothing found lies above it): exact, below it,
           // from the triangles it found.
-          checker_.pair_distance(posed, it.k, answer.upper * (1.0 + 1e-12) + 1e-15, answer);
+          checker_.pair_distance(posed, k, answer.upper * (1.0 + 1e-12) + 1e-15, answer);
         }
         if (answer.seeded) {
           p.seeded = true;
@@ -523,21 +561,21 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
         }
         if (answer.exact) {
           note_sample(answer.distance, a, b);
-          if (answer.distance < limit) return Witness{tm, a, b};
+          if (answer.distance < limit) {
+            if (!best || tm < best->t) best = Witness{tm, a, b};
+            until_here = std::min(until_here, cur.t);
+            break;
+          }
         }
-        mid_value[i] = answer.distance;
-        mid_guard[i] = answer.guard;
+        // Found something: the pair is about that far here; nothing found:
+        // perhaps much farther.
+        const double e = answer.upper < std::numeric_limits<double>::infinity() ? answer.upper
+                                                                                 : kGrow * need * (1.0 + rel);
+        rights.push_back(Point{tm, answer.distance, answer.guard, e});
       }
-      const std::size_t right = arena.size();
-      for (std::size_t i = 0; i < active.size(); ++i)
-        arena.push_back({active[i].k, mid_value[i], active[i].lb, mid_guard[i], active[i].gb});
-      stack.push_back({tm, sp.tb, right});
-      const std::size_t left = arena.size();
-      for (std::size_t i = 0; i < active.size(); ++i)
-        arena.push_back({active[i].k, active[i].la, mid_value[i], active[i].ga, mid_guard[i]});
-      stack.push_back({sp.ta, tm, left});
     }
-    return std::nullopt;
+    if (first_pass) reached = best ? std::min(until_here, best->t) : 1.0;
+    return best;
   };
 
   two_passes(margin_, options_, gave_up, out, [&](double target, double limit, bool contact, double& lower) {

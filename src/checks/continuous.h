@@ -38,7 +38,8 @@ struct ContinuousOptions {
   // Contact tolerance (m): a configuration closer than this, where no exact
   // intersection was found, is reported as a collision. Must exceed kDistanceTolerance.
   double contact_tolerance = 1e-7;
-  // Exact checks per segment before it is given up on: the segment is then
+  // Pair samples (one pair's search at one configuration; the reference:
+  // whole configurations) per segment before it is given up on: the segment is then
   // a violation without a witness (SegmentResult::unresolved: "not
   // certified", a clearance violation naming no pair, never a contact).
   // The bound needs about one check per (clearance - margin) / reach
@@ -124,6 +125,7 @@ class SegmentChecker {
   const Checker& checker_;
   MotionBound bound_;
   std::vector<std::pair<int, int>> pairs_;
+  MotionBound::PairPlan plan_;  // pairs_ for MotionBound::pair_bounds
   std::vector<int> moving_;  // parts of some pair that have a chain
   double margin_;
   ContinuousOptions options_;

@@ -51,8 +51,12 @@ MotionBound::MotionBound(const Scene& scene) : scene_(scene) {
     e.centre = 0.5 * (lo + hi);
     const Action& inner = scene.actions[static_cast<std::size_t>(part.chain.back())];
     const Vec3 c = inner.type == ActionType::kScale ? inner.fixed_point : inner.pivot;
+    // Each vertex a triangle uses, once (a vertex is shared by about six).
+    std::vector<char> used(part.mesh.vertices.size(), 0);
     for (const Tri& t : part.mesh.triangles)
-      for (std::uint32_t v : t) {
+      for (std::uint32_t v : t) used[v] = 1;
+    for (std::size_t v = 0; v < used.size(); ++v)
+      if (used[v]) {
         const Vec3& x = part.mesh.vertices[v];
         e.radius = std::max(e.radius, (x - e.centre).norm());
         e.inner_radius = std::max(e.inner_radius, (x - c).norm());
@@ -73,22 +77,32 @@ double MotionBound::pair_bound(int a, int b, std::span<const double> qa, std::sp
 
 void MotionBound::pair_bounds(const std::vector<std::pair<int, int>>& pairs, std::span<const double> qa,
                               std::span<const double> qb, std::vector<double>& out) const {
-  // (part, shared prefix) -> bound_from, for this motion.
-  thread_local std::vector<std::pair<std::pair<int, std::size_t>, double>> memo;
-  memo.clear();
-  auto from = [&](int part, std::size_t common) {
-    for (const auto& [key, v] : memo)
-      if (key.first == part && key.second == common) return v;
-    const double v = bound_from(part, common, qa, qb);
-    memo.push_back({{part, common}, v});
-    return v;
+  pair_bounds(pair_plan(pairs), qa, qb, out);
+}
+
+MotionBound::PairPlan MotionBound::pair_plan(const std::vector<std::pair<int, int>>& pairs) const {
+  PairPlan plan;
+  auto key = [&](int part, std::size_t common) {
+    const std::pair<int, std::size_t> k{part, common};
+    const auto it = std::find(plan.keys.begin(), plan.keys.end(), k);
+    if (it != plan.keys.end()) return static_cast<std::uint32_t>(it - plan.keys.begin());
+    plan.keys.push_back(k);
+    return static_cast<std::uint32_t>(plan.keys.size() - 1);
   };
-  out.resize(pairs.size());
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const auto [a, b] = pairs[k];
+  for (const auto& [a, b] : pairs) {
     const std::size_t common = shared_actions(a, b);
-    out[k] = from(a, common) + from(b, common);
+    plan.of.emplace_back(key(a, common), key(b, common));
   }
+  return plan;
+}
+
+void MotionBound::pair_bounds(const PairPlan& plan, std::span<const double> qa, std::span<const double> qb,
+                              std::vector<double>& out) const {
+  thread_local std::vector<double> value;
+  value.resize(plan.keys.size());
+  for (std::size_t i = 0; i < plan.keys.size(); ++i) value[i] = bound_from(plan.keys[i].first, plan.keys[i].second, qa, qb);
+  out.resize(plan.of.size());
+  for (std::size_t k = 0; k < plan.of.size(); ++k) out[k] = value[plan.of[k].first] + value[plan.of[k].second];
 }
 
 std::size_t MotionBound::shared_actions(int a, int b) const {

@@ -7,6 +7,7 @@
 
 #include "src/scene/scene.h"
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -38,6 +39,16 @@ class MotionBound {
   // many pairs, most of them with static parts, is bounded once).
   void pair_bounds(const std::vector<std::pair<int, int>>& pairs, std::span<const double> qa,
                    std::span<const double> qb, std::vector<double>& out) const;
+
+  // The same for a pair list planned once (pair_plan): what each pair's
+  // two bounds start from is found once, not on every motion.
+  struct PairPlan {
+    std::vector<std::pair<int, std::size_t>> keys;           // (part, shared prefix), each once
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> of;  // per pair: its two parts' keys
+  };
+  PairPlan pair_plan(const std::vector<std::pair<int, int>>& pairs) const;
+  void pair_bounds(const PairPlan& plan, std::span<const double> qa, std::span<const double> qb,
+                   std::vector<double>& out) const;
 
  private:
   struct PartExtent {

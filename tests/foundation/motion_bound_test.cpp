@@ -160,16 +160,21 @@ TEST(MotionBound, PairBoundsEqualPairBoundPairByPair) {
     for (int a = 0; a <= n; ++a)
       for (int b = a + 1; b <= n; ++b) pairs.emplace_back(a, b);
     std::shuffle(pairs.begin(), pairs.end(), rng);
+    const MotionBound::PairPlan plan = bound.pair_plan(pairs);
     const auto qa = random_params(scene, rng), qb = random_params(scene, rng);
     const double t0 = u(rng), t1 = u(rng);
     for (auto [ta, tb] : {std::pair{0.0, 1.0}, std::pair{std::min(t0, t1), std::max(t0, t1)}}) {
       const auto a = lerp(qa, qb, ta), b = lerp(qa, qb, tb);
-      std::vector<double> all;
+      std::vector<double> all, planned;
       bound.pair_bounds(pairs, a, b, all);
+      bound.pair_bounds(plan, a, b, planned);  // the plan made once, used on every motion
       ASSERT_EQ(all.size(), pairs.size());
-      for (std::size_t k = 0; k < pairs.size(); ++k)
+      ASSERT_EQ(planned.size(), pairs.size());
+      for (std::size_t k = 0; k < pairs.size(); ++k) {
         ASSERT_EQ(all[k], bound.pair_bound(pairs[k].first, pairs[k].second, a, b))
             << "trial " << trial << " pair " << pairs[k].first << "-" << pairs[k].second;
+        ASSERT_EQ(planned[k], all[k]) << "trial " << trial << " pair " << k;
+      }
     }
   }
 }
