@@ -49,7 +49,7 @@ std::string violation_text(const Checker& checker, const Scene& scene, const Pla
   if (v.action >= 0) s += " (" + printable(scene.actions[static_cast<std::size_t>(v.action)].name) + ")";
   if (uncertified(r, v))
     s += " (not certified: the motion needs more than " + std::to_string(r.segments[v.state].steps) +
-         " exact checks)";
+         " pair checks)";
   if (v.kind == Verdict::kTarget && r.target_error)
     s += " (error " + num(*r.target_error / scene.length_scale) + " " + scene.length_unit + ")";
   return s;

@@ -348,7 +348,7 @@ TEST(Continuous, CommandLineSaysNotCertifiedBeyondTheBudget) {
                           " --continuous --out " + (dir / "out").string() + " >" + (dir / "stdout").string() + " 2>&1";
   EXPECT_EQ(testing::run_command(cmd), 1);
   const std::string text = testing::read_text(dir / "stdout");
-  EXPECT_NE(text.find("clearance between states 0 and 1 (not certified: the motion needs more than 200000 exact checks)"),
+  EXPECT_NE(text.find("clearance between states 0 and 1 (not certified: the motion needs more than 200000 pair checks)"),
             std::string::npos)
       << text;
   // The plan line names the closest pair at a state; its violation names none.
