@@ -164,7 +164,7 @@ int run(int argc, char** argv) {
                   ref_collisions - std::min(ref_collisions, found_c), found_v,
                   ref_violations - std::min(ref_violations, found_v), seconds);
     }
-    std::printf("%-16s %-12s %9zu %10zu %10s %10zu %10s %12.4f  (%zu exact checks)\n", name, "certified", set->size(),
+    std::printf("%-16s %-12s %9zu %10zu %10s %10zu %10s %12.4f  (%zu pair checks)\n", name, "certified", set->size(),
                 ref_collisions, "0", ref_violations, "0", certified_seconds, steps);
   }
   std::printf("missed: segments the certified check flags that the sampling passes (it never misses: "

@@ -47,7 +47,7 @@ struct PyMotionResult {
   py::array_t<std::int32_t> part_a;    // the witness's pair, index into part_names; -1: none
   py::array_t<std::int32_t> part_b;
   py::array_t<bool> certified;         // False: the step budget ran out (a clearance violation, no witness)
-  py::array_t<std::int64_t> steps;     // exact checks between the ends
+  py::array_t<std::int64_t> steps;     // pair checks between the ends
   py::list part_names;
 };
 
@@ -321,9 +321,9 @@ PYBIND11_MODULE(_plancheck, m) {
       .def_readonly("part_a", &PyMotionResult::part_a, "int32: the witness's pair, index into part_names; -1: none")
       .def_readonly("part_b", &PyMotionResult::part_b, "int32: the other part of that pair")
       .def_readonly("certified", &PyMotionResult::certified,
-                    "bool: False where the motion needs more exact checks than the budget (then a clearance\n"
+                    "bool: False where the motion needs more pair checks than the budget (then a clearance\n"
                     "violation with no witness)")
-      .def_readonly("steps", &PyMotionResult::steps, "int64: exact configuration checks between the ends");
+      .def_readonly("steps", &PyMotionResult::steps, "int64: pair checks between the ends (one pair's search at one configuration each)");
   add_pair_names_and_len(motion_result);
 
   py::class_<PyScene>(m, "Scene",

@@ -113,7 +113,7 @@ struct MotionOptions {
 struct MotionResult {
   // The two-state plan's verdict: the first violation in the order state 0,
   // the motion, state 1 (as verify ranks them). A motion whose certification
-  // needs more exact checks than the budget (thousands of turns) is a
+  // needs more pair checks than the budget (thousands of turns) is a
   // kClearance violation with no pair, certified false.
   Verdict verdict = Verdict::kSafe;
   bool collision = false;  // parts touch somewhere on the motion, ends included
@@ -129,7 +129,7 @@ struct MotionResult {
   std::string part_a, part_b;
   int part_a_index = -1, part_b_index = -1;
   bool certified = true;  // false: the step budget ran out (verdict kClearance, no witness)
-  std::size_t steps = 0;  // exact configuration checks between the ends
+  std::size_t steps = 0;  // pair checks between the ends (one pair's search at one configuration each)
   // The motion is certified safe from state 0 up to this fraction of it (1
   // when the verdict is safe; 0 when state 0 is not safe or nothing beyond
   // it was proven): what OMPL's checkMotion(s1, s2, lastValid) reports.
