@@ -144,12 +144,6 @@ double SegmentChecker::first_limit() const {
   return margin_ > 0.0 ? margin_ + options_.tolerance : options_.contact_tolerance;
 }
 
-double SegmentChecker::end_limit(const std::vector<double>& qa, const std::vector<double>& qb) const {
-  thread_local std::vector<double> bounds;
-  bound_.pair_bounds(plan_, qa, qb, bounds);
-  return end_limit(bounds);
-}
-
 double SegmentChecker::end_limit(const std::vector<double>& bounds) const {
   double m = 0.0;
   for (const double s : bounds)
@@ -165,11 +159,14 @@ double SegmentChecker::end_limit(const std::vector<double>& bounds) const {
 SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const std::vector<double>& qb,
                                            bool verdict_only, StateResult& sa, StateResult& sb,
                                            double* certified_until) const {
+  // The pairs' bounds once: for the verdict-only ends' limit and the march.
+  std::vector<double> bounds;
+  bound_.pair_bounds(plan_, qa, qb, bounds);
   CheckRequest request = row_request();
-  if (verdict_only) request.exact_below = end_limit(qa, qb);
+  if (verdict_only) request.exact_below = end_limit(bounds);
   checker_.check_state(qa, sa, request);
   checker_.check_state(qb, sb, request);
-  return run_pairs(qa, qb, sa, sb, certified_until);
+  return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds);
 }
 
 SegmentResult SegmentChecker::check_motion_reference(const std::vector<double>& qa, const std::vector<double>& qb,
@@ -358,13 +355,15 @@ constexpr double kProbe = 4.0;
 
 SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std::vector<double>& qb,
                                         const StateResult& sa, const StateResult& sb,
-                                        double* certified_until, const Heightfield* terrain) const {
+                                        double* certified_until, const Heightfield* terrain,
+                                        const std::vector<double>* given_bounds) const {
   SegmentResult out;
   double until = 0.0;
   out.checked = true;
   const std::size_t np = pairs_.size();
-  std::vector<double> bounds;
-  bound_.pair_bounds(plan_, qa, qb, bounds);
+  std::vector<double> own_bounds;
+  if (!given_bounds) bound_.pair_bounds(plan_, qa, qb, own_bounds);
+  const std::vector<double>& bounds = given_bounds ? *given_bounds : own_bounds;
   const double e_limit = end_limit(bounds);
   // Per pair: how much its distance can change per unit of t (padded for
   // the product with a sub-interval's length), its ends' box gaps and

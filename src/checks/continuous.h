@@ -108,16 +108,17 @@ class SegmentChecker {
   SegmentResult run(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
                     const StateResult& sb, const Heightfield* terrain, bool sb_on_terrain, bool verdict_only) const;
   // The per-pair algorithm (check, check_motion on the scene's terrain).
+  // bounds: the pairs' motion bounds from qa to qb (MotionBound::pair_bounds
+  // over plan_) when the caller has them; nullptr: computed here.
   SegmentResult run_pairs(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
                           const StateResult& sb, double* certified_until = nullptr,
-                          const Heightfield* terrain = nullptr) const;
+                          const Heightfield* terrain = nullptr, const std::vector<double>* bounds = nullptr) const;
   // Where the end states' distances count (m): exact below it in
   // check_motion's verdict-only end checks, and every pair at least
   // min(its state's distance, this) at an end in both modes, so that both
   // modes take the same steps. First limit plus half the largest pair motion:
-  // two ends that far clear certify the whole segment at once.
-  double end_limit(const std::vector<double>& qa, const std::vector<double>& qb) const;
-  // The same from the pairs' bounds (MotionBound::pair_bounds).
+  // two ends that far clear certify the whole segment at once. From the
+  // pairs' bounds (MotionBound::pair_bounds).
   double end_limit(const std::vector<double>& bounds) const;
   // The distance a violation witness lies below: the first pass's.
   double first_limit() const;
