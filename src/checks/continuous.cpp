@@ -97,7 +97,7 @@ void two_passes(double margin, const ContinuousOptions& options, const bool& gav
 
 SegmentChecker::SegmentChecker(const Checker& checker, const Scene& scene, const ContinuousOptions& options)
     : checker_(checker),
-      bound_(scene),
+      bound_(checker.motion_bound()),
       pairs_(checker.pairs()),
       plan_(bound_.pair_plan(pairs_)),
       margin_(scene.safety_margin),
@@ -126,8 +126,16 @@ SegmentResult SegmentChecker::check(const std::vector<double>& qa, const std::ve
                                     bool sb_on_terrain) const {
   if (terrain && !sb_on_terrain) {
     // sb shows qb after its own dig; the motion meets the terrain before it.
+    // Its other pairs are as sb shows them: when sb's closest pair is not a
+    // terrain pair (exact, no contact), sb's distance, pair and guard are
+    // theirs (check_terrain left them), so only the terrain pairs are
+    // checked again; else the whole state is.
     StateResult sb_before;
-    checker_.check_state_without_terrain(qb, sb_before, row_request());
+    const int tr = checker_.terrain_index();
+    if (!sb.collision && !sb.distance_is_bound && sb.part_a >= 0 && sb.part_a != tr && sb.part_b != tr)
+      sb_before = sb;
+    else
+      checker_.check_state_without_terrain(qb, sb_before, row_request());
     checker_.check_terrain(qb, *terrain, sb_before);
     return run_pairs(qa, qb, sa, sb_before, nullptr, terrain);
   }
@@ -379,21 +387,20 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   PosedParts posed;
   posed.terrain = terrain;
   PairAnswer answer;
+  std::vector<double> gap, guard;
   checker_.pose_parts(qa, posed);
+  checker_.pair_gaps(posed, gap, guard);  // pair_distance's answers to need 0, all at once
   for (std::size_t k = 0; k < np; ++k) {
-    answer = PairAnswer{};
-    checker_.pair_distance(posed, k, 0.0, answer);  // need 0: the box gap and guard only
-    pd[k].gap_a = answer.distance;
-    pd[k].guard_a = answer.guard;
-    pd[k].live = answer.distance != std::numeric_limits<double>::infinity();  // NaN stays live
+    pd[k].gap_a = gap[k];
+    pd[k].guard_a = guard[k];
+    pd[k].live = gap[k] != std::numeric_limits<double>::infinity();  // NaN stays live
   }
   checker_.pose_parts(qb, posed);
+  checker_.pair_gaps(posed, gap, guard);
   for (std::size_t k = 0; k < np; ++k) {
-    answer = PairAnswer{};
-    checker_.pair_distance(posed, k, 0.0, answer);
-    pd[k].gap_b = answer.distance;
-    pd[k].guard_b = answer.guard;
-    pd[k].live = pd[k].live || answer.distance != std::numeric_limits<double>::infinity();
+    pd[k].gap_b = gap[k];
+    pd[k].guard_b = guard[k];
+    pd[k].live = pd[k].live || gap[k] != std::numeric_limits<double>::infinity();
     pd[k].rate = bounds[k] * (1.0 + 1e-12);
   }
   std::vector<double> q;
@@ -645,6 +652,7 @@ void verify_segments(const Checker& checker, const Scene& scene, const std::vect
       if (dug[p] && field && s + 1 < plans[p].states.size()) pending[p].push_back(s);
     };
     walk.after_plan = [&](std::size_t p, DigSummary, std::vector<DigStep>&) { flush(p, false); };
+    walk.volumes = false;  // the terrains only: the states' volumes are verify_plans'
     dig_along_plans(*checker.digger(), checker.terrain(), plans, options.dig_carry, options.threads, walk);
   }
 

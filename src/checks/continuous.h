@@ -124,7 +124,7 @@ class SegmentChecker {
   double first_limit() const;
 
   const Checker& checker_;
-  MotionBound bound_;
+  const MotionBound& bound_;  // the checker's
   std::vector<std::pair<int, int>> pairs_;
   MotionBound::PairPlan plan_;  // pairs_ for MotionBound::pair_bounds
   std::vector<int> moving_;  // parts of some pair that have a chain

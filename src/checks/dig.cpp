@@ -229,7 +229,7 @@ int Digger::relax(Dem& grid, double angle, int c0, int r0, int c1, int r1, const
 }
 
 DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem& grid, std::vector<DigStep>& steps,
-                            const AfterState& after_state) const {
+                            const AfterState& after_state, bool volumes) const {
   DigSummary sum;
   steps.assign(states.size(), DigStep{});
   if (!scene_.scoop) return sum;
@@ -270,7 +270,7 @@ DigSummary Digger::dig_plan(const std::vector<std::vector<double>>& states, Dem&
       }
     } else if (dig_template(grid, start, m, &changed)) {
       st.in_soil = true;
-      volume = pit_volume(start, grid);
+      if (volumes) volume = pit_volume(start, grid);
     }
     st.volume = volume;
     if (after_state) after_state(s, grid, changed);

@@ -100,9 +100,12 @@ class Digger {
   // Digs one plan into `grid` (the terrain before the plan: undisturbed, or
   // the previous plan's result with --dig-carry). Sequential by nature.
   // The swept model's final relaxation (after the last state) is reported to
-  // no state.
+  // no state. volumes false (a walk that wants only the terrain): the
+  // template model's pit volume, a sum over the whole grid after every
+  // state in soil, is not taken (its steps' and summary's volumes are then
+  // 0); the grid is dug the same.
   DigSummary dig_plan(const std::vector<std::vector<double>>& states, Dem& grid, std::vector<DigStep>& steps,
-                      const AfterState& after_state = {}) const;
+                      const AfterState& after_state = {}, bool volumes = true) const;
 
   // One template step with the scoop bottom at m; `start` is S (the plan's
   // starting grid). Returns whether M was below the surface; `changed`

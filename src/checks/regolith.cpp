@@ -29,7 +29,7 @@ void dig_along_plans(const Digger& digger, const Heightfield* base, const std::v
       if (walk.after_state) walk.after_state(p, s, field);
     };
     std::vector<DigStep> steps;
-    DigSummary summary = digger.dig_plan(plans[p].states, grid, steps, after_state);
+    DigSummary summary = digger.dig_plan(plans[p].states, grid, steps, after_state, walk.volumes);
     if (walk.after_plan) walk.after_plan(p, std::move(summary), steps);
   };
   if (dig_carry) {

@@ -35,6 +35,8 @@ struct DigWalk {
   // The field now shows the terrain dug through state s (nullptr: no field).
   std::function<void(std::size_t p, std::size_t s, Heightfield* field)> after_state;
   std::function<void(std::size_t p, DigSummary summary, std::vector<DigStep>& steps)> after_plan;
+  // false: a walk that wants only the terrains (Digger::dig_plan's volumes).
+  bool volumes = true;
 };
 
 // The dig walk of dig_and_probe: each plan dug state by state from the

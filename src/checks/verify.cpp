@@ -108,6 +108,18 @@ inline double box_gap2(const Box& a, const Box& b) {
 #endif
 }
 
+// The distance between two boxes (pair_distance's lower bound before any search).
+inline double box_gap(const Box& a, const Box& b) {
+  const double g2 = box_gap2(a, b);
+  return g2 > 0.0 ? std::sqrt(g2) : 0.0;
+}
+
+// What settles a margin comparison of a pair in double, from its two parts'
+// magnitudes (Checker::part_magnitude).
+inline double magnitude_guard(double mag_a, double mag_b) {
+  return std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() * std::max(mag_a, mag_b));
+}
+
 // The terrain's box: its pyramid's root, padded as a static part's box.
 Box terrain_root_box(const Heightfield& terrain) {
   double lo[3], hi[3];
@@ -656,17 +668,13 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
 
   // Largest coordinate of a part's boxes, world and own frame (the terrain:
   // its pyramid's root box): what the double distance's rounding scales with.
-  auto mag = [](const Vec3& lo, const Vec3& hi) { return std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff()); };
   auto pair_magnitude = [&](int i) {
-    if (i == terrain_index_) return mag(terrain_box.lo, terrain_box.hi);
+    if (i == terrain_index_) return part_magnitude(i, terrain_box.lo, terrain_box.hi);
     const std::size_t p = static_cast<std::size_t>(i);
-    return std::max(mag(box[p].lo, box[p].hi), local_magnitude_[p]);
+    return part_magnitude(i, box[p].lo, box[p].hi);
   };
   // The guard that settles a margin comparison of pair (a, b) in double.
-  auto pair_guard = [&](int a, int b) {
-    return std::max(kDistanceTolerance,
-                    64.0 * std::numeric_limits<double>::epsilon() * std::max(pair_magnitude(a), pair_magnitude(b)));
-  };
+  auto pair_guard = [&](int a, int b) { return magnitude_guard(pair_magnitude(a), pair_magnitude(b)); };
   // Verdict-only: distances are searched only below the cutoff. It lies
   // above exact_below by four times the largest guard G of any checked pair
   // (the terrain's magnitude from the undisturbed terrain, so a state's
@@ -1208,6 +1216,35 @@ void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std
     if (i >= 0 && static_cast<std::size_t>(i) < n) pose_one(static_cast<std::size_t>(i));
 }
 
+void Checker::pair_gaps(const PosedParts& posed, std::vector<double>& gap, std::vector<double>& guard) const {
+  const std::size_t np = pairs_.size();
+  gap.resize(np);
+  guard.resize(np);
+  const Heightfield* field = posed.terrain ? posed.terrain : terrain_.get();
+  const bool has_field = field && field->triangle_count() > 0;
+  const Box terrain_box = has_field ? terrain_root_box(*field) : Box{};
+  // Each part's magnitude once (pair_distance computes both of a pair's),
+  // the terrain's last.
+  thread_local std::vector<double> magnitude;
+  const std::size_t n = posed.box.size();
+  magnitude.resize(n + 1);
+  for (std::size_t i = 0; i < n; ++i) magnitude[i] = part_magnitude(static_cast<int>(i), posed.box[i].first, posed.box[i].second);
+  magnitude[n] = has_field ? part_magnitude(terrain_index_, terrain_box.lo, terrain_box.hi) : 0.0;
+  for (std::size_t k = 0; k < np; ++k) {
+    const PairRef& p = pairs_[k];
+    const bool on_terrain = p.b == terrain_index_;
+    if (p.empty || (on_terrain && !has_field)) {
+      gap[k] = std::numeric_limits<double>::infinity();
+      guard[k] = kDistanceTolerance;
+      continue;
+    }
+    const std::size_t a = static_cast<std::size_t>(p.a), b = on_terrain ? n : static_cast<std::size_t>(p.b);
+    const Box box_a{posed.box[a].first, posed.box[a].second};
+    gap[k] = box_gap(box_a, on_terrain ? terrain_box : Box{posed.box[b].first, posed.box[b].second});
+    guard[k] = magnitude_guard(magnitude[a], magnitude[b]);
+  }
+}
+
 bool Checker::pair_collides(const PosedParts& posed, std::size_t k) const {
   const PairRef& p = pairs_[k];
   if (p.empty) return false;
@@ -1243,16 +1280,8 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   const Box box_a{posed.box[static_cast<std::size_t>(a)].first, posed.box[static_cast<std::size_t>(a)].second};
   const Box box_b = on_terrain ? terrain_root_box(*field)
                                : Box{posed.box[static_cast<std::size_t>(b)].first, posed.box[static_cast<std::size_t>(b)].second};
-  const double g2 = box_gap2(box_a, box_b);
-  const double gap = g2 > 0.0 ? std::sqrt(g2) : 0.0;
-  auto mag = [](const Box& x) { return std::max(x.lo.cwiseAbs().maxCoeff(), x.hi.cwiseAbs().maxCoeff()); };
-  auto part_mag = [&](int i, const Box& world) {
-    if (i == terrain_index_) return mag(world);
-    const auto& l = local_boxes_[static_cast<std::size_t>(i)];
-    return std::max(mag(world), mag(Box{l.first, l.second}));
-  };
-  out.guard = std::max(kDistanceTolerance, 64.0 * std::numeric_limits<double>::epsilon() *
-                                               std::max(part_mag(a, box_a), part_mag(b, box_b)));
+  const double gap = box_gap(box_a, box_b);
+  out.guard = magnitude_guard(part_magnitude(a, box_a.lo, box_a.hi), part_magnitude(b, box_b.lo, box_b.hi));
   if (gap >= need) {  // beyond the need by the boxes
     out.distance = gap;
     return;

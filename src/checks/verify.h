@@ -13,6 +13,7 @@
 #include "src/scene/plan.h"
 #include "src/scene/scene.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -341,6 +342,12 @@ class Checker {
   // the bound need / (1 + r) (less the same).
   void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false,
                      double rel_tolerance = 0.0) const;
+  // Every pair's answer to need 0 at once, bit for bit what
+  // pair_distance(posed, k, 0.0, .) gives: gap[k] its box gap (infinity for
+  // a pair never checked, or a terrain pair without terrain), guard[k] its
+  // guard. Each part's magnitude and the terrain's box once, not per pair.
+  // `posed` must hold every part (pose_parts without a list).
+  void pair_gaps(const PosedParts& posed, std::vector<double>& gap, std::vector<double>& guard) const;
   // Up to `max` intersecting triangle pairs of pair k at this pose, as
   // collide lists them, each as its six corners in the world frame as
   // posed here (part a's three, then b's): what a contact certificate
@@ -386,6 +393,12 @@ class Checker {
   // storage), fills kept_; returns how many triangles were left out.
   std::size_t prune_static(const Scene& scene, std::vector<const Mesh*>& meshes,
                            std::vector<Mesh>& storage, int threads);
+  // The largest coordinate of part i's box posed at `world` and of its own
+  // frame's box (the terrain: `world` alone): what a pair's guard scales with.
+  double part_magnitude(int i, const Vec3& lo, const Vec3& hi) const {
+    const double w = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+    return i == terrain_index_ ? w : std::max(w, local_magnitude_[static_cast<std::size_t>(i)]);
+  }
   const Scene& scene_;
   std::vector<std::string> names_;
   std::vector<CollisionModel> models_;  // one per scene part (the terrain is terrain_)
@@ -457,6 +470,8 @@ class Checker {
 
  public:
   const Digger* digger() const { return digger_.get(); }
+  // How far parts can move between two configurations (the scene's, built once).
+  const MotionBound& motion_bound() const { return motion_; }
   double safety_margin() const { return scene_.safety_margin; }
   const ProbeCaster* probe_caster() const { return probes_.get(); }
 };
