@@ -301,3 +301,101 @@ TEST(ContinuousDig, DenseSamplingOnTheDugTerrainAgrees) {
 
 }  // namespace
 }  // namespace plancheck
+
+namespace plancheck {
+namespace {
+
+// What a dug segment's check reads of its end state qb: qb against the
+// terrain as dug through qa. When qb's own state (which saw its dig) has a
+// closest pair that is not a terrain pair, the check takes its other pairs
+// from that state and checks only the terrain pairs again; otherwise it
+// checks the whole state again. Either way the segment's result is, bit for
+// bit, that of the check given the state checked afresh (the whole state
+// without the terrain, then the terrain pairs against the dug terrain), and
+// both ways occur here. Also: every pair's box gap and guard at once
+// (Checker::pair_gaps) are pair_distance's answers to need 0.
+TEST(ContinuousDig, EndStateTakenFromItsDigEqualsTheStateCheckedAfresh) {
+  TempDir dir("continuous_dig");
+  const Scene scene = write_scene(dir);
+  const Checker checker(scene, 2);
+  const Digger digger(scene);
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Plan> plans;
+  for (int i = 0; i < 3; ++i) {
+    std::vector<State> states;
+    double sx = 0.0, sy = 0.0;
+    for (int k = 0; k < 12; ++k) {
+      if (k % 4 == 0) sx = 0.08 * u(rng) - 0.04, sy = 0.08 * u(rng) - 0.04;
+      const double sz = k % 4 == 1 ? -0.22 - 0.03 * u(rng) : 0.0;
+      // Every other state Foot is lifted beside the Scoop (1 to 6 cm off in
+      // x, 15 cm and more over the ground): the Scoop is then its closest.
+      const bool lifted = k % 2 == 0;
+      const double fx = lifted ? sx - 0.06 + 0.04 * u(rng) : sx - 0.08 + 0.3 * u(rng) - 0.15;
+      const double fy = lifted ? sy : sy + 0.3 * u(rng) - 0.15;
+      const double fz = lifted ? 0.15 + 0.1 * u(rng) : sz < 0.0 ? 0.05 : 0.05 * u(rng) - 0.025;
+      states.push_back({sx, sy, sz, fx, fy, fz});
+    }
+    plans.push_back(make_plan("e" + std::to_string(i), states));
+  }
+  // A dig that raises its rim into Foot at rest (5 mm over the ground
+  // before it, in the rim after): qb's own state collides, the motion up to
+  // it does not.
+  plans.push_back(make_plan("rim", {kPark, {0, 0, -0.25, 0, 0, 0}, kPark}));
+  const auto results = verify_plans(checker, scene, plans, VerifyOptions{1, false});
+  const SegmentChecker seg(checker, scene, ContinuousOptions{});
+  const int terrain = checker.terrain_index();
+  int taken = 0, again = 0, gaps = 0;
+  auto same = [](const SegmentResult& a, const SegmentResult& b) {
+    EXPECT_EQ(a.collision, b.collision);
+    EXPECT_EQ(a.clearance, b.clearance);
+    EXPECT_EQ(a.lower_bound, b.lower_bound);
+    EXPECT_EQ(a.min_sampled, b.min_sampled);
+    EXPECT_EQ(a.part_a, b.part_a);
+    EXPECT_EQ(a.part_b, b.part_b);
+    EXPECT_EQ(a.witness_t, b.witness_t);
+    EXPECT_EQ(a.steps, b.steps);
+    EXPECT_EQ(a.unresolved, b.unresolved);
+  };
+  auto expect_gaps = [&](const std::vector<double>& q, const Heightfield* field) {
+    PosedParts posed;
+    posed.terrain = field;
+    checker.pose_parts(q, posed);
+    std::vector<double> gap, guard;
+    checker.pair_gaps(posed, gap, guard);
+    ASSERT_EQ(gap.size(), checker.pairs().size());
+    for (std::size_t k = 0; k < gap.size(); ++k) {
+      PairAnswer one;
+      checker.pair_distance(posed, k, 0.0, one);
+      EXPECT_EQ(gap[k], one.distance) << k;
+      EXPECT_EQ(guard[k], one.guard) << k;
+      ++gaps;
+    }
+  };
+  for (std::size_t p = 0; p < plans.size(); ++p) {
+    Dem grid = digger.undisturbed();
+    std::vector<DigStep> steps;
+    const auto& st = plans[p].states;
+    const auto& rs = results[p].states;
+    digger.dig_plan(st, grid, steps, [&](std::size_t s, const Dem& now, const SampleRect&) {
+      if (s + 1 >= st.size()) return;
+      SCOPED_TRACE("plan " + std::to_string(p) + " segment " + std::to_string(s));
+      const Heightfield field(now, digger.origin());
+      const StateResult& sb = rs[s + 1];
+      StateResult fresh;
+      checker.check_state_without_terrain(st[s + 1], fresh, row_request());
+      checker.check_terrain(st[s + 1], field, fresh);
+      same(seg.check(st[s], st[s + 1], rs[s], sb, &field, false), seg.check(st[s], st[s + 1], rs[s], fresh, &field, true));
+      const bool other = !sb.collision && sb.part_a >= 0 && sb.part_a != terrain && sb.part_b != terrain;
+      (other ? taken : again) += 1;
+      expect_gaps(st[s], &field);
+      expect_gaps(st[s], nullptr);
+    });
+  }
+  EXPECT_GT(taken, 3);
+  EXPECT_GT(again, 3);
+  EXPECT_GT(gaps, 0);
+}
+
+}  // namespace
+}  // namespace plancheck
