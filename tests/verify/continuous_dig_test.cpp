@@ -73,6 +73,46 @@ std::vector<PlanResult> run(const Checker& checker, const Scene& scene, const st
   return results;
 }
 
+// Two segment results equal, field by field (bit for bit).
+void expect_same_segment(const SegmentResult& a, const SegmentResult& b) {
+  EXPECT_EQ(a.collision, b.collision);
+  EXPECT_EQ(a.clearance, b.clearance);
+  EXPECT_EQ(a.lower_bound, b.lower_bound);
+  EXPECT_EQ(a.min_sampled, b.min_sampled);
+  EXPECT_EQ(a.part_a, b.part_a);
+  EXPECT_EQ(a.part_b, b.part_b);
+  EXPECT_EQ(a.witness_t, b.witness_t);
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.unresolved, b.unresolved);
+}
+
+// Random plans: the Scoop digs at a few places (some twice), Foot wanders
+// around the pits and rims at heights from under the undisturbed ground to a
+// few centimetres over it; with `beside`, every other state Foot is lifted
+// beside the Scoop instead (1 to 6 cm off in x, 15 cm and more over the
+// ground: the Scoop is then its closest).
+std::vector<Plan> random_dig_plans(std::uint64_t seed, int states_per_plan, bool beside) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::vector<Plan> plans;
+  for (int i = 0; i < 3; ++i) {
+    std::vector<State> states;
+    double sx = 0.0, sy = 0.0;
+    for (int k = 0; k < states_per_plan; ++k) {
+      if (k % 4 == 0) sx = 0.08 * u(rng) - 0.04, sy = 0.08 * u(rng) - 0.04;  // a new dig site now and then
+      const double sz = k % 4 == 1 ? -0.22 - 0.03 * u(rng) : 0.0;            // in the soil, or lifted
+      // Foot within 15 cm of the site, from 2 cm under the ground to 3 cm over it.
+      const bool lifted = beside && k % 2 == 0;
+      const double fx = lifted ? sx - 0.06 + 0.04 * u(rng) : sx - 0.08 + 0.3 * u(rng) - 0.15;
+      const double fy = lifted ? sy : sy + 0.3 * u(rng) - 0.15;
+      const double fz = lifted ? 0.15 + 0.1 * u(rng) : sz < 0.0 ? 0.05 : 0.05 * u(rng) - 0.025;
+      states.push_back({sx, sy, sz, fx, fy, fz});
+    }
+    plans.push_back(make_plan((beside ? "e" : "r") + std::to_string(i), states));
+  }
+  return plans;
+}
+
 TEST(ContinuousDig, PassingThroughTheRimBetweenTwoSafeStatesIsACollision) {
   TempDir dir("continuous_dig");
   const Scene scene = write_scene(dir);
@@ -205,21 +245,12 @@ TEST(ContinuousDig, ResultsDoNotDependOnTheThreadCount) {
     const auto two = run(checker, scene, plans, carry, 2);
     for (std::size_t p = 0; p < plans.size(); ++p)
       for (std::size_t s = 0; s + 1 < plans[p].states.size(); ++s) {
-        const SegmentResult& a = one[p].segments[s];
-        const SegmentResult& b = two[p].segments[s];
-        EXPECT_EQ(a.collision, b.collision);
-        EXPECT_EQ(a.clearance, b.clearance);
-        EXPECT_EQ(a.lower_bound, b.lower_bound);
-        EXPECT_EQ(a.min_sampled, b.min_sampled);
-        EXPECT_EQ(a.witness_t, b.witness_t);
-        EXPECT_EQ(a.steps, b.steps);
+        expect_same_segment(one[p].segments[s], two[p].segments[s]);
       }
   }
 }
 
-// Random plans: the Scoop digs at a few places (some twice), Foot wanders
-// around the pits and rims at heights from under the undisturbed ground to a
-// few centimetres over it. Each segment against 2,000 exact sub-steps (600
+// Random plans (random_dig_plans, Foot wandering). Each segment against 2,000 exact sub-steps (600
 // under the sanitizers) on a heightfield built afresh from the grid dug
 // through its first state.
 TEST(ContinuousDig, DenseSamplingOnTheDugTerrainAgrees) {
@@ -227,22 +258,7 @@ TEST(ContinuousDig, DenseSamplingOnTheDugTerrainAgrees) {
   const Scene scene = write_scene(dir);
   const Checker checker(scene, 2);
   const Digger digger(scene);
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<Plan> plans;
-  for (int i = 0; i < 3; ++i) {
-    std::vector<State> states;
-    double sx = 0.0, sy = 0.0;
-    for (int k = 0; k < 10; ++k) {
-      if (k % 4 == 0) sx = 0.08 * u(rng) - 0.04, sy = 0.08 * u(rng) - 0.04;  // a new dig site now and then
-      const double sz = k % 4 == 1 ? -0.22 - 0.03 * u(rng) : 0.0;            // in the soil, or lifted
-      // Foot within 15 cm of the site, from 2 cm under the ground to 3 cm over it.
-      const double fx = sx - 0.08 + 0.3 * u(rng) - 0.15, fy = sy + 0.3 * u(rng) - 0.15;
-      const double fz = sz < 0.0 ? 0.05 : 0.05 * u(rng) - 0.025;
-      states.push_back({sx, sy, sz, fx, fy, fz});
-    }
-    plans.push_back(make_plan("r" + std::to_string(i), states));
-  }
+  const std::vector<Plan> plans = random_dig_plans(11, 10, false);
   const auto results = run(checker, scene, plans, false);
   const SegmentChecker seg(checker, scene, ContinuousOptions{});
   const double tol = ContinuousOptions{}.tolerance;
@@ -319,25 +335,7 @@ TEST(ContinuousDig, EndStateTakenFromItsDigEqualsTheStateCheckedAfresh) {
   const Scene scene = write_scene(dir);
   const Checker checker(scene, 2);
   const Digger digger(scene);
-  std::mt19937_64 rng(23);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<Plan> plans;
-  for (int i = 0; i < 3; ++i) {
-    std::vector<State> states;
-    double sx = 0.0, sy = 0.0;
-    for (int k = 0; k < 12; ++k) {
-      if (k % 4 == 0) sx = 0.08 * u(rng) - 0.04, sy = 0.08 * u(rng) - 0.04;
-      const double sz = k % 4 == 1 ? -0.22 - 0.03 * u(rng) : 0.0;
-      // Every other state Foot is lifted beside the Scoop (1 to 6 cm off in
-      // x, 15 cm and more over the ground): the Scoop is then its closest.
-      const bool lifted = k % 2 == 0;
-      const double fx = lifted ? sx - 0.06 + 0.04 * u(rng) : sx - 0.08 + 0.3 * u(rng) - 0.15;
-      const double fy = lifted ? sy : sy + 0.3 * u(rng) - 0.15;
-      const double fz = lifted ? 0.15 + 0.1 * u(rng) : sz < 0.0 ? 0.05 : 0.05 * u(rng) - 0.025;
-      states.push_back({sx, sy, sz, fx, fy, fz});
-    }
-    plans.push_back(make_plan("e" + std::to_string(i), states));
-  }
+  std::vector<Plan> plans = random_dig_plans(23, 12, true);
   // A dig that raises its rim into Foot at rest (5 mm over the ground
   // before it, in the rim after): qb's own state collides, the motion up to
   // it does not.
@@ -346,17 +344,7 @@ TEST(ContinuousDig, EndStateTakenFromItsDigEqualsTheStateCheckedAfresh) {
   const SegmentChecker seg(checker, scene, ContinuousOptions{});
   const int terrain = checker.terrain_index();
   int taken = 0, again = 0, gaps = 0;
-  auto same = [](const SegmentResult& a, const SegmentResult& b) {
-    EXPECT_EQ(a.collision, b.collision);
-    EXPECT_EQ(a.clearance, b.clearance);
-    EXPECT_EQ(a.lower_bound, b.lower_bound);
-    EXPECT_EQ(a.min_sampled, b.min_sampled);
-    EXPECT_EQ(a.part_a, b.part_a);
-    EXPECT_EQ(a.part_b, b.part_b);
-    EXPECT_EQ(a.witness_t, b.witness_t);
-    EXPECT_EQ(a.steps, b.steps);
-    EXPECT_EQ(a.unresolved, b.unresolved);
-  };
+
   auto expect_gaps = [&](const std::vector<double>& q, const Heightfield* field) {
     PosedParts posed;
     posed.terrain = field;
@@ -385,7 +373,8 @@ TEST(ContinuousDig, EndStateTakenFromItsDigEqualsTheStateCheckedAfresh) {
       StateResult fresh;
       checker.check_state_without_terrain(st[s + 1], fresh, row_request());
       checker.check_terrain(st[s + 1], field, fresh);
-      same(seg.check(st[s], st[s + 1], rs[s], sb, &field, false), seg.check(st[s], st[s + 1], rs[s], fresh, &field, true));
+      expect_same_segment(seg.check(st[s], st[s + 1], rs[s], sb, &field, false),
+                          seg.check(st[s], st[s + 1], rs[s], fresh, &field, true));
       const bool other = !sb.collision && sb.part_a >= 0 && sb.part_a != terrain && sb.part_b != terrain;
       (other ? taken : again) += 1;
       expect_gaps(st[s], &field);
