@@ -172,7 +172,7 @@ SolidPieces solid_pieces(const Mesh& mesh, std::size_t max_planes) {
 namespace {
 
 // Vertices of a piece scanned for a witness, at most.
-constexpr std::size_t kScan = 256;
+constexpr std::size_t kScan = 64;
 
 // One order: a piece of `a` inside a solid of `b`; `lever` bounds a
 // point of a's moves (null: `whole` for every point), `solid_move` every
