@@ -30,7 +30,10 @@ constexpr std::size_t kWitnesses = 16;
 // Small boxes (answered point by point) of at least this many
 // configurations first try one crossing witness for the first pair that
 // was in contact at the last centre.
-constexpr std::size_t kWitnessBox = 4;
+constexpr std::size_t kWitnessBox = 2;
+// A part-scale witness that failed on a small box is asked again on its
+// halves only when its best candidate cleared this share of the moves.
+constexpr double kWitnessShare = 0.3;
 
 }  // namespace
 
@@ -88,6 +91,7 @@ struct SweepCertifier::Context {
   // the earlier ones need only be proven apart.
   std::vector<std::int32_t> cert = {};
   std::vector<std::array<Vec3, 6>> crossings = {};  // scratch
+  std::vector<SolidHint> hints = {};  // per pair: its last part-scale witness
   std::vector<double> params = {};  // scratch
   PosedParts posed = {};
   std::vector<double> since = {};
@@ -154,6 +158,11 @@ SweepCertifier::SweepCertifier(const Checker& checker, const Scene& scene, const
     crossable_.push_back(rigid ? 1 : 0);
   }
   pair_parts_ = checker.pairs();
+  // Part-scale witnesses: the pieces of every part a rigid mesh pair
+  // meets, when the checker keeps all of its triangles (a left-out one
+  // could be where the surfaces meet).
+  // Each is found the first time a box asks for it.
+  solids_ = std::make_unique<Solids[]>(scene.parts.size());
   for (const Part& part : scene.parts) {
     double r = 0.0, e = 0.0;
     for (const Tri& t : part.mesh.triangles) {
@@ -328,6 +337,27 @@ double SweepCertifier::pair_path(std::size_t k, const std::vector<double>& from,
 
 bool SweepCertifier::witness_moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
                                    double& da, double& db) const {
+  return moves(k, lo, hi, da, db) && room(k, da, db);
+}
+
+bool SweepCertifier::room(std::size_t k, double da, double db) const {
+  // An edge pq through triangle T certifies only when p and q stay more
+  // than da + db from T's plane, on either side (crossing.h: the volume of
+  // T's edges with p moves by at least |u| |v| (da + db)), so |pq| must
+  // exceed 2 (da + db); and when the line pq stays farther than da + db
+  // from each of T's edge lines (the volume against edge i moves by at
+  // least |pq| |edge i| (da + db)), so T's inradius must exceed da + db.
+  const auto [a, b] = pair_parts_[k];
+  auto of = [](const std::vector<double>& v, int part) {
+    return part >= 0 && static_cast<std::size_t>(part) < v.size() ? v[static_cast<std::size_t>(part)] : 0.0;
+  };
+  const double m = da + db;
+  return (of(longest_edge_, a) > 2.0 * m && of(inradius_, b) > m) ||
+         (of(longest_edge_, b) > 2.0 * m && of(inradius_, a) > m);
+}
+
+bool SweepCertifier::moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi, double& da,
+                           double& db) const {
   if (!crossable_[k]) return false;
   // How far each part's corners move from the centre to any configuration
   // of the box: half the path over it (as Checker::pair_motion), plus
@@ -339,18 +369,46 @@ bool SweepCertifier::witness_moves(std::size_t k, const std::vector<double>& lo,
   const double rounding = 8.0 * guard_;
   da = 0.5 * motion_.part_bound(a, lo, hi) * (1.0 + 1e-9) + 1e-12 + rounding;
   db = 0.5 * motion_.part_bound(b, lo, hi) * (1.0 + 1e-9) + 1e-12 + rounding;
-  // An edge pq through triangle T certifies only when p and q stay more
-  // than da + db from T's plane, on either side (crossing.h: the volume of
-  // T's edges with p moves by at least |u| |v| (da + db)), so |pq| must
-  // exceed 2 (da + db); and when the line pq stays farther than da + db
-  // from each of T's edge lines (the volume against edge i moves by at
-  // least |pq| |edge i| (da + db)), so T's inradius must exceed da + db.
-  auto of = [](const std::vector<double>& v, int part) {
-    return part >= 0 && static_cast<std::size_t>(part) < v.size() ? v[static_cast<std::size_t>(part)] : 0.0;
-  };
-  const double m = da + db;
-  return (of(longest_edge_, a) > 2.0 * m && of(inradius_, b) > m) ||
-         (of(longest_edge_, b) > 2.0 * m && of(inradius_, a) > m);
+  return std::isfinite(da) && std::isfinite(db);
+}
+
+const SolidPieces& SweepCertifier::pieces(int part) const {
+  static const SolidPieces none;
+  if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return none;
+  Solids& s = solids_[static_cast<std::size_t>(part)];
+  std::call_once(s.once, [&] {
+    if (checker_.part_whole(part)) s.pieces = solid_pieces(scene_.parts[static_cast<std::size_t>(part)].mesh);
+  });
+  return s.pieces;
+}
+
+bool SweepCertifier::may_solid(std::size_t k) const {
+  if (!crossable_[k]) return false;
+  const auto [a, b] = pair_parts_[k];
+  return pieces(a).deepest > 0.0 || pieces(b).deepest > 0.0;
+}
+
+bool SweepCertifier::solid(Context& c, std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
+                           const std::vector<double>& centre) const {
+  if (c.hints.size() <= k) c.hints.resize(pair_parts_.size());
+  c.hints[k].ratio = 0.0;
+  const auto [a, b] = pair_parts_[k];
+  if (a < 0 || b < 0 || static_cast<std::size_t>(a) >= scene_.parts.size() ||
+      static_cast<std::size_t>(b) >= scene_.parts.size())
+    return false;
+  const std::size_t ua = static_cast<std::size_t>(a), ub = static_cast<std::size_t>(b);
+  // Each point's move from the centre over the box (BoxMotion, per point
+  // for the piece, per part for the solid), plus rounding twice as in
+  // witness_moves.
+  const BoxMotion::Lever la = box_motion_.lever(a, lo, hi, centre), lb = box_motion_.lever(b, lo, hi, centre);
+  SolidMoves m;
+  m.a = &la;
+  m.b = &lb;
+  m.whole_a = box_motion_.reach(a, la);
+  m.whole_b = box_motion_.reach(b, lb);
+  m.pad = 8.0 * guard_ + 1e-12;
+  return solid_crossing(scene_.parts[ua].mesh, pieces(a), *c.posed.pose[ua], scene_.parts[ub].mesh, pieces(b),
+                        *c.posed.pose[ub], m, c.hints[k]);
 }
 
 bool SweepCertifier::crossing(const std::vector<std::array<Vec3, 6>>& crossings, double da, double db) const {
@@ -440,18 +498,52 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
   if (points <= kSmallBox) {
     // The first pair in contact at the last centre may cross with room for
     // this small box: one witness search (no distance) can spare every
-    // point its contact test and every later pair.
+    // point its contact test and every later pair. A part-scale witness
+    // that fails is asked again on the box's halves, down to kWitnessBox.
     for (const Pending& p : pending) {
       if (!(p.at >= 0 && p.ub == 0.0)) continue;
-      double da = 0.0, db = 0.0;
-      std::vector<double> qlo, qhi, qc;
-      corners(qlo, qhi, qc);
-      if (points >= kWitnessBox && witness_moves(p.pair, qlo, qhi, da, db)) {
-        checker_.pose_parts(qc, c.posed, g.parts);
+      const bool solid_room = may_solid(p.pair);
+      auto attempt = [&](auto&& self, std::size_t n) -> void {
+        if (n < kWitnessBox) return;
+        double da = 0.0, db = 0.0;
+        std::vector<double> qlo, qhi, qc;
+        corners(qlo, qhi, qc);
+        if (!moves(p.pair, qlo, qhi, da, db)) return;
+        const bool triangle_room = room(p.pair, da, db);
+        if (!solid_room && !triangle_room) return;
+        // The pair's two parts only: each point answered poses its own.
+        const int two[2] = {pair_parts_[p.pair].first, pair_parts_[p.pair].second};
+        checker_.pose_parts(qc, c.posed, std::span<const int>(two, two[1] == checker_.terrain_index() ? 1 : 2));
         ++out.pair_checks;
-        checker_.pair_crossings(c.posed, p.pair, kWitnesses, c.crossings);
-        if (crossing(c.crossings, da, db)) mark_contact(p.pair);
-      }
+        if (solid_room && solid(c, p.pair, qlo, qhi, qc)) {
+          mark_contact(p.pair);
+          return;
+        }
+        if (triangle_room) {
+          checker_.pair_crossings(c.posed, p.pair, kWitnesses, c.crossings);
+          if (crossing(c.crossings, da, db)) {
+            mark_contact(p.pair);
+            return;
+          }
+        }
+        // Halving a side at most halves the moves: not worth it when the
+        // best candidate cleared less than half of them.
+        if (!solid_room || n < 2 * kWitnessBox || !(c.hints[p.pair].ratio >= kWitnessShare)) return;
+        std::size_t split = 0;
+        for (std::size_t k = 1; k < d; ++k)
+          if (hi[k] - lo[k] > hi[split] - lo[split]) split = k;
+        if (d == 0 || hi[split] == lo[split]) return;
+        const std::size_t mid = lo[split] + (hi[split] - lo[split]) / 2;
+        const std::size_t old_lo = lo[split], old_hi = hi[split];
+        const std::size_t side = old_hi - old_lo + 1;
+        hi[split] = mid;
+        self(self, n / side * (mid - old_lo + 1));
+        hi[split] = old_hi;
+        lo[split] = mid + 1;
+        self(self, n / side * (old_hi - mid));
+        lo[split] = old_lo;
+      };
+      attempt(attempt, points);
       break;
     }
     each_point([&](const std::vector<std::size_t>& at) { answer_point(c, at, pending, floor); });
@@ -486,10 +578,27 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
       continue;
     }
     // A pair in contact at the last centre may cross here with room for
-    // the whole box (only a pair that can bring a witness is asked).
+    // the whole box (only a pair that can bring a witness is asked): first
+    // at the parts' scale, then triangle by triangle.
     double da = 0.0, db = 0.0;
-    const bool witness = witness_moves(k, qlo, qhi, da, db);
-    const bool may_cross = witness && p.at >= 0 && p.ub == 0.0;
+    const bool movable = moves(k, qlo, qhi, da, db);
+    const bool witness = movable && room(k, da, db);
+    const bool in_contact = p.at >= 0 && p.ub == 0.0;
+    const bool may_cross = witness && in_contact;
+    if (movable && in_contact && may_solid(k)) {
+      if (!posed_done) {
+        checker_.pose_parts(qc, c.posed, g.parts);
+        c.pool.push_back(qc);
+        centre = c.pool.size() - 1;
+        posed_done = true;
+      }
+      ++out.pair_checks;
+      if (solid(c, k, qlo, qhi, qc)) {
+        mark_contact(k);
+        witnessed = true;
+        break;
+      }
+    }
     if (!(ub >= cut + m) && !may_cross) {  // cannot be certified here (or the motion is not finite)
       keep(p, m, lb);
       continue;

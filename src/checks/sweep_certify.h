@@ -31,10 +31,13 @@
 #include "src/checks/verify.h"
 #include "src/geometry/box_motion.h"
 #include "src/geometry/motion_bound.h"
+#include "src/geometry/solid_witness.h"
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <vector>
 
 namespace plancheck {
@@ -96,6 +99,21 @@ class SweepCertifier {
   // Whether one of these triangle pairs crossing at a box centre (world
   // corners as posed there) stays crossing under those moves.
   bool crossing(const std::vector<std::array<Vec3, 6>>& crossings, double da, double db) const;
+  // How far the corners of checked pair k's parts can move between the
+  // centre of the box [lo, hi] and any configuration of it (m), as
+  // witness_moves; false when pair k can bring no witness (not rigid).
+  bool moves(std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi, double& da,
+             double& db) const;
+  // Whether pair k's parts, posed at the centre in c.posed, meet at every
+  // configuration of the box [lo, hi] by a part-scale witness
+  // (src/geometry/solid_witness.h).
+  bool solid(Context& c, std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
+             const std::vector<double>& centre) const;
+  // Whether a crossing witness may hold for pair k over moves da, db (its
+  // triangles are large enough).
+  bool room(std::size_t k, double da, double db) const;
+  // Whether pair k can bring a part-scale witness (rigid, a closed piece).
+  bool may_solid(std::size_t k) const;
 
   const Checker& checker_;
   const Scene& scene_;
@@ -115,6 +133,14 @@ class SweepCertifier {
   // witness is an edge longer than twice both parts' moves through a
   // triangle whose inradius exceeds them (witness_moves).
   std::vector<double> inradius_, longest_edge_;
+  // Per scene part: its connected and closed pieces, found on first use
+  // (empty for a part with triangles the checker left out).
+  struct Solids {
+    std::once_flag once;
+    SolidPieces pieces;
+  };
+  const SolidPieces& pieces(int part) const;
+  std::unique_ptr<Solids[]> solids_;
   MotionBound motion_;
   BoxMotion box_motion_;
   // Limits, per axis and value and for the parameters no axis sweeps.

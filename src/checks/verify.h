@@ -268,6 +268,8 @@ class Checker {
   // parts no checked pair uses. Such a triangle can neither touch a moving
   // part nor be closer to one than some kept pair is in every pose.
   std::size_t left_out_static_triangles() const { return left_out_; }
+  // Whether every triangle of scene part `part` is checked (none left out).
+  bool part_whole(int part) const { return (*kept_)[static_cast<std::size_t>(part)].empty(); }
 
   // The checked pairs as indices into the part list (the moving part first).
   std::vector<std::pair<int, int>> pairs() const {

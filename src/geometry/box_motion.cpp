@@ -84,19 +84,24 @@ std::size_t BoxMotion::clusters(int part) const {
   return parts_[static_cast<std::size_t>(part)].clusters.size();
 }
 
-double BoxMotion::reach(int part, std::span<const double> lo, std::span<const double> hi,
-                        std::span<const double> c) const {
-  if (part < 0 || static_cast<std::size_t>(part) >= parts_.size()) return 0.0;
+BoxMotion::Lever BoxMotion::lever(int part, std::span<const double> lo, std::span<const double> hi,
+                                  std::span<const double> c) const {
+  Lever l;
+  if (part < 0 || static_cast<std::size_t>(part) >= parts_.size()) return l;
   const PartData& d = parts_[static_cast<std::size_t>(part)];
   const Part& p = scene_.parts[static_cast<std::size_t>(part)];
-  if (d.clusters.empty()) return 0.0;
-  if (!d.rigid) return fallback_.part_bound(part, lo, hi);
+  if (d.clusters.empty()) return l;
+  if (!d.rigid) {
+    l.fixed = fallback_.part_bound(part, lo, hi);
+    return l;
+  }
   const std::size_t k = p.chain.size();
-  if (k > 64) return std::numeric_limits<double>::infinity();
+  if (k > kMaxChain) {
+    l.fixed = std::numeric_limits<double>::infinity();
+    return l;
+  }
   // Per action: how far its value moves from c within the box (rad or m
   // along the path), and its transform at c.
-  double h[64];
-  Affine at[64];
   for (std::size_t n = 0; n < k; ++n) {
     const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
     if (a.type == ActionType::kTranslateFree) {
@@ -106,42 +111,68 @@ double BoxMotion::reach(int part, std::span<const double> lo, std::span<const do
         const double e = std::max(std::abs(hi[f + j] - c[f + j]), std::abs(lo[f + j] - c[f + j]));
         s += e * e;
       }
-      h[n] = std::sqrt(s) * a.unit_to_si;
+      l.h[n] = std::sqrt(s) * a.unit_to_si;
     } else {
       // Driving values are affine in one parameter: extremes at lo and hi.
       const double vc = driving_value(scene_, a, c);
       const double e = std::max(std::abs(driving_value(scene_, a, hi) - vc), std::abs(driving_value(scene_, a, lo) - vc));
-      h[n] = e * a.unit_to_si * (a.type == ActionType::kTranslateAxis ? a.axis.norm() : 1.0);
+      l.h[n] = e * a.unit_to_si * (a.type == ActionType::kTranslateAxis ? a.axis.norm() : 1.0);
     }
-    if (!std::isfinite(h[n])) return std::numeric_limits<double>::infinity();
+    if (!std::isfinite(l.h[n])) {
+      l.fixed = std::numeric_limits<double>::infinity();
+      return l;
+    }
   }
   std::size_t outer = k;  // the outermost action that moves: nothing outside it matters
   for (std::size_t n = 0; n < k && outer == k; ++n)
-    if (h[n] > 0.0) outer = n;
-  if (outer == k) return 0.0;
+    if (l.h[n] > 0.0) outer = n;
+  if (outer == k) return l;
   for (std::size_t n = outer + 1; n < k; ++n)
-    at[n] = action_transform_at(scene_, scene_.actions[static_cast<std::size_t>(p.chain[n])], c);
-  double best = 0.0;
-  for (const Cluster& cl : d.clusters) {
-    Vec3 y = cl.centre;
-    double path = 0.0;  // sum over the actions inside n of h_j arm_j
-    for (std::size_t n = k; n-- > outer;) {
-      const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
-      if (a.type == ActionType::kRotate) {
-        if (h[n] != 0.0) {
-          double arm = line_distance(y, a.pivot, a.axis) + cl.radius + path;
-          if (n + 1 == k) arm = std::min(arm, cl.inner_arm);
-          path += h[n] * arm;
-        }
-      } else {
-        path += h[n];
+    l.at[n] = action_transform_at(scene_, scene_.actions[static_cast<std::size_t>(p.chain[n])], c);
+  l.scene = &scene_;
+  l.chain = &p.chain;
+  l.outer = outer;
+  l.fixed = -1.0;
+  return l;
+}
+
+double BoxMotion::Lever::sphere(const Vec3& centre, double radius, double inner_arm) const {
+  if (fixed >= 0.0 || std::isnan(fixed)) return fixed;
+  const std::size_t k = chain->size();
+  Vec3 y = centre;
+  double path = 0.0;  // sum over the actions inside n of h_j arm_j
+  for (std::size_t n = k; n-- > outer;) {
+    const Action& a = scene->actions[static_cast<std::size_t>((*chain)[n])];
+    if (a.type == ActionType::kRotate) {
+      if (h[n] != 0.0) {
+        double arm = line_distance(y, a.pivot, a.axis) + radius + path;
+        if (n + 1 == k) arm = std::min(arm, inner_arm);
+        path += h[n] * arm;
       }
-      if (n > outer) y = at[n] * y;
+    } else {
+      path += h[n];
     }
-    best = std::max(best, path);
+    if (n > outer) y = at[n] * y;
   }
-  if (!std::isfinite(best)) return std::numeric_limits<double>::infinity();
-  return best * (1.0 + 1e-9) + 1e-12;
+  if (!std::isfinite(path)) return std::numeric_limits<double>::infinity();
+  return path * (1.0 + 1e-9) + 1e-12;
+}
+
+double BoxMotion::Lever::point(const Vec3& x) const {
+  return sphere(x, 0.0, std::numeric_limits<double>::infinity());
+}
+
+double BoxMotion::reach(int part, std::span<const double> lo, std::span<const double> hi,
+                        std::span<const double> c) const {
+  return reach(part, lever(part, lo, hi, c));
+}
+
+double BoxMotion::reach(int part, const Lever& l) const {
+  if (l.fixed >= 0.0 || std::isnan(l.fixed)) return l.fixed;
+  double best = 0.0;
+  for (const Cluster& cl : parts_[static_cast<std::size_t>(part)].clusters)
+    best = std::max(best, l.sphere(cl.centre, cl.radius, cl.inner_arm));
+  return best;
 }
 
 }  // namespace plancheck

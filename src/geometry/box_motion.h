@@ -43,6 +43,29 @@ class BoxMotion {
   // The clusters one part's vertices are split into (statistics, tests).
   std::size_t clusters(int part) const;
 
+  static constexpr std::size_t kMaxChain = 64;
+  // reach's work for one box, kept to bound single points of the part
+  // (the sweep's part-scale witnesses, src/geometry/solid_witness.h).
+  class Lever {
+   public:
+    // The bound for the one point x (mesh frame, m): reach's, with the
+    // point as a cluster of radius 0.
+    double point(const Vec3& x) const;
+
+   private:
+    friend class BoxMotion;
+    double sphere(const Vec3& centre, double radius, double inner_arm) const;
+    double fixed = 0.0;  // >= 0 (or NaN): the bound whatever the point; -1: per point
+    const Scene* scene = nullptr;
+    const std::vector<int>* chain = nullptr;
+    std::size_t outer = 0;
+    double h[kMaxChain] = {};
+    Affine at[kMaxChain];
+  };
+  Lever lever(int part, std::span<const double> lo, std::span<const double> hi, std::span<const double> c) const;
+  // reach from the part's lever over the box.
+  double reach(int part, const Lever& l) const;
+
  private:
   struct Cluster {
     Vec3 centre = Vec3::Zero();  // part frame (m)

@@ -288,6 +288,41 @@ TEST(SweepCertify, ContactRegionsEqualCheckingEachConfiguration) {
   EXPECT_TRUE(collides_with(run, "wall")) << run.summary["colliding_pairs"].dump();
 }
 
+// Contact regions certified at the parts' scale: the fore link's end
+// deep inside a closed drum (a URDF cylinder, 64 long thin side
+// triangles: no triangle has room for a crossing witness), its other end
+// outside. Every verdict and distance as checking each configuration
+// alone; most contacts never tested one by one.
+TEST(SweepCertify, DeepContactsInAClosedPartAreWitnessedAtThePartsScale) {
+  TempDir dir("sweep-certify-drum");
+  write_text(dir / "arm.urdf", R"(<robot name="drum_arm">
+  <link name="base"/>
+  <link name="drum"><collision><origin xyz="1.9 0 0.5"/><geometry><cylinder radius="0.3" length="0.6"/></geometry></collision></link>
+  <joint name="drum_mount" type="fixed"><parent link="base"/><child link="drum"/></joint>
+  <link name="upper"><collision><origin xyz="0.5 0 0"/><geometry><box size="1.0 0.1 0.1"/></geometry></collision></link>
+  <joint name="J1" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.5"/>
+    <axis xyz="0 0 1"/><limit lower="-3.1" upper="3.1" effort="1" velocity="1"/></joint>
+  <link name="fore"><collision><origin xyz="0.56 0 0"/><geometry><box size="0.9 0.08 0.08"/></geometry></collision></link>
+  <joint name="J2" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="1.0 0 0"/>
+    <axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
+</robot>
+)");
+  write_text(dir / "scene.json", R"({
+  "format": "plancheck-scene/1", "length_unit": "m", "angle_unit": "rad",
+  "robot": {"urdf": "arm.urdf"}, "safety_margin": 0.02
+})");
+  const std::string grid = testing::kSanitized ? "J1=-0.5:0.5:0.01,J2=-0.6:0.6:0.02" : "J1=-0.5:0.5:0.005,J2=-0.6:0.6:0.005";
+  const SweepRun run = expect_certified_equals_exact(dir / "scene.json", grid, dir);
+  const std::size_t collisions = run.summary["counts"]["collision"];
+  const std::size_t witnessed = run.summary["certified"].value("witnessed", std::size_t{0});
+  std::printf("[ drum ] %zu configurations, %zu collisions, %zu witnessed\n",
+              run.summary["configurations"].get<std::size_t>(), collisions, witnessed);
+  EXPECT_GT(collisions, run.summary["configurations"].get<std::size_t>() / 10);
+  EXPECT_GT(witnessed, collisions / 2) << run.summary["certified"].dump();
+  EXPECT_LT(witnessed, collisions);  // the contact region's rim got its own tests
+  EXPECT_TRUE(collides_with(run, "drum")) << run.summary["colliding_pairs"].dump();
+}
+
 // The certified blocks on one and two threads (also run under
 // ThreadSanitizer: the name says Thread): the same files.
 TEST(SweepCertify, OneAndTwoThreadsWriteTheSameFiles) {
