@@ -101,6 +101,9 @@ struct SweepCertifier::Context {
   PosedParts posed = {};
   std::vector<double> since = {};
   std::vector<std::vector<double>> pool = {};  // box centres asked (Pending::at)
+  // Per pair: the last triangle pair a point's search found (clear_point's
+  // probe starts there), kept when later searches find none (seeds are not).
+  std::vector<PairAnswer> hints = {};
 };
 
 SweepCertifier::SweepCertifier(const Checker& checker, const Scene& scene, const SweepGrid& grid)
@@ -279,6 +282,7 @@ void SweepCertifier::answer_point(Context& c, const std::vector<std::size_t>& at
     }
     PairAnswer& ans = c.seeds[k];
     checker_.pair_distance(c.posed, k, need, ans);
+    if (ans.seeded) c.hints[k] = ans;
     // What this answer proves for the next point (as check_pairs' separations).
     c.carried[k] = ans.exact ? std::max(since[n], ans.distance - kDistanceTieTolerance - ans.guard)
                              : std::max(since[n], ans.distance);
@@ -325,10 +329,10 @@ bool SweepCertifier::clear_point(Context& c, std::size_t i, const std::vector<Pe
   std::size_t first = pending.size();
   for (std::size_t n = 0; n < pending.size(); ++n)
     if (static_cast<int>(pending[n].pair) == c.last_best) first = n;
-  if (first == pending.size() || !c.seeds[pending[first].pair].seeded) return false;
+  if (first == pending.size() || !c.hints[pending[first].pair].seeded) return false;
   Answers& out = c.out;
   const std::vector<double>& since = c.since;
-  PairAnswer probe = c.seeds[pending[first].pair];  // the seed survives a miss for the exact search
+  PairAnswer probe = c.hints[pending[first].pair];
   ++out.pair_checks;
   checker_.pair_distance(c.posed, pending[first].pair, below_, probe, /*decide=*/true);
   // probe.upper is the distance of a triangle pair of the two parts as
@@ -344,6 +348,7 @@ bool SweepCertifier::clear_point(Context& c, std::size_t i, const std::vector<Pe
   double lower = floor, upper = probe.upper;
   int closest = c.last_best;
   c.seeds[pending[first].pair] = probe;
+  c.hints[pending[first].pair] = probe;
   const std::size_t count = pending.size();
   for (std::size_t j = 0; j < count; ++j) {
     const std::size_t n = j == 0 ? first : j <= first ? j - 1 : j;  // the probed pair first
@@ -363,6 +368,7 @@ bool SweepCertifier::clear_point(Context& c, std::size_t i, const std::vector<Pe
       upper = ans.upper;
       closest = static_cast<int>(k);
     }
+    if (ans.seeded) c.hints[k] = ans;
     if (!ans.seeded) {  // nothing below the need: the old seed stays a good start
       ans.seeded = seed.seeded;
       ans.slot_a = seed.slot_a;
@@ -716,6 +722,7 @@ void SweepCertifier::check_block(std::size_t b, SweepBlockResult& out) const {
     }
     Context c{g, first, a, seeds, -1, carried, carried_at, relevant};
     c.cert.assign(m, kNone);
+    c.hints.assign(seeds.size(), PairAnswer{});
     for (std::size_t k : g.pairs) {
       seeds[k] = PairAnswer{};
       carried_at[k].clear();
