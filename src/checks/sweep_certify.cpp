@@ -104,6 +104,10 @@ struct SweepCertifier::Context {
   // Per pair: the last triangle pair a point's search found (clear_point's
   // probe starts there), kept when later searches find none (seeds are not).
   std::vector<PairAnswer> hints = {};
+  // The last point answered without contact was in clearance (its exact
+  // minimum below margin - 4G - tie, or clear_point's): only then does
+  // clear_point probe (in free space a probe that misses costs a search).
+  bool last_clear = false;
 };
 
 SweepCertifier::SweepCertifier(const Checker& checker, const Scene& scene, const SweepGrid& grid)
@@ -313,10 +317,12 @@ void SweepCertifier::answer_point(Context& c, const std::vector<std::size_t>& at
     out.pair[i] = best_pair;
     out.guard[i] = guard;
     c.last_best = best_pair;
+    c.last_clear = best < below_;
   } else {
     out.lower[i] = std::min(best, bound);
     out.exact[i] = 0;
     out.pair[i] = -1;
+    c.last_clear = false;
   }
 }
 
@@ -325,7 +331,7 @@ bool SweepCertifier::clear_point(Context& c, std::size_t i, const std::vector<Pe
   // Asked of the pair closest at the last point answered, from its seed:
   // while the closest pair stays, the seed's triangle pair is below the
   // margin here too, and one triangle distance says so.
-  if (!(below_ > 0.0)) return false;
+  if (!(below_ > 0.0) || !c.last_clear) return false;
   std::size_t first = pending.size();
   for (std::size_t n = 0; n < pending.size(); ++n)
     if (static_cast<int>(pending[n].pair) == c.last_best) first = n;
