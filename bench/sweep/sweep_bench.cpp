@@ -215,9 +215,9 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   }
   std::printf("in contact: configurations in collision; exact free: without contact, with an exact distance (some "
-              "pair within the margin's cutoff); witnessed: in contact by a box's witness (a triangle crossing or "
-              "the parts' pieces) with no test of their own; exact tests: in contact + exact free - witnessed; "
-              "growth: exact tests over the previous step's\n");
+              "pair within the margin's cutoff, not certified in clearance); witnessed: in contact by a box's "
+              "witness (a triangle crossing or the parts' pieces) with no test of their own; exact tests: in contact "
+              "+ exact free - witnessed; growth: exact tests over the previous step's\n");
   std::printf("* per-configuration checking timed on 16 random spans of 4,096 consecutive configurations, "
               "extrapolated to the grid\n");
   if (!json_path.empty()) {

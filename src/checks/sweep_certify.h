@@ -19,12 +19,20 @@
 // - A configuration already in contact through an earlier pair (in
 //   checked-pair order, from a group answered before) needs no later pair
 //   at all: the verdict and the first colliding pair are settled.
+// - A configuration whose pairs are all apart (contact tests, or carried
+//   separations) where the group's closest pair at the last point is still
+//   found closer than margin - 4G - tie tolerance (its seed's triangle pair,
+//   one triangle distance) is in clearance whatever its exact distance:
+//   no exact search, a certified lower bound from coarse searches
+//   (clear_point). Near the margin, within that slack, the exact search
+//   decides.
 // The cutoff is the verdict-only one (margin + 4G + tie tolerance, G a
 // bound on every pair's margin guard over the grid): a certified bound can
-// never read as a violation, and every distance below it is exact. So the
-// verdicts are those of checking every configuration, and distance.npy
-// holds a certified lower bound everywhere, exact where a pair came within
-// the cutoff (up to the distance search's tie tolerance).
+// never read as a violation. So the verdicts are those of checking every
+// configuration, and distance.npy holds a certified lower bound
+// everywhere, exact where marked exact: in contact, and without contact
+// where a pair came within the cutoff and the configuration was not
+// certified in clearance (up to the distance search's tie tolerance).
 #pragma once
 
 #include "src/checks/sweep_grid.h"
@@ -46,7 +54,9 @@ namespace plancheck {
 struct SweepBlockResult {
   std::vector<Verdict> verdict;
   std::vector<double> distance;       // m: exact where exact[i], else a certified lower bound; 0 in contact
-  std::vector<std::uint8_t> exact;    // 1: distance is the configuration's minimum (or it collides)
+  std::vector<std::uint8_t> exact;    // 1: distance is the configuration's minimum (or it collides); 0 where
+                                      // the distance is beyond the cutoff or the configuration is certified
+                                      // closer than the margin (clear_point)
   std::vector<std::int32_t> pair;     // the first colliding pair (checked-pair order), else the closest
                                       // pair when exact; -1 otherwise
   std::size_t pair_checks = 0;        // single-pair answers computed (statistics)
@@ -59,7 +69,8 @@ class SweepCertifier {
   SweepCertifier(const Checker& checker, const Scene& scene, const SweepGrid& grid);
 
   const SweepBlocks& blocks() const { return blocks_; }
-  // Distances at or beyond this (m) are certified bounds, below it exact.
+  // Distances at or beyond this (m) are certified bounds; below it exact,
+  // but where clear_point certified the configuration in clearance.
   double cutoff() const { return cutoff_; }
   // How many pair groups the checked pairs fall into, and their axes.
   std::size_t group_count() const { return groups_.size(); }
@@ -91,6 +102,12 @@ class SweepCertifier {
                std::vector<Pending>& pending, double floor) const;
   void answer_point(Context& c, const std::vector<std::size_t>& at, const std::vector<Pending>& pending,
                     double floor) const;
+  // Point i of c, its pairs all apart (contacts tested, or carried
+  // separations): when one of them is certainly below the margin there,
+  // the verdict is clearance whatever the exact minimum, so the group
+  // answers a certified lower bound (coarse searches) and true; false:
+  // nothing settled (the exact searches follow).
+  bool clear_point(Context& c, std::size_t i, const std::vector<Pending>& pending, double floor) const;
   // How far the corners of checked pair k's parts can move between the
   // centre of the box [lo, hi] and any configuration of it, as the exact
   // test poses them (m); false when no crossing witness can hold over it.
@@ -122,6 +139,10 @@ class SweepCertifier {
   std::vector<Group> groups_;
   double cutoff_ = 0.0;
   double guard_ = 0.0;  // G
+  // margin - 4G - tie tolerance: a triangle pair of some checked pair found
+  // closer than this at a configuration (as posed here) puts its exact
+  // minimum, as any exact check poses it, below the margin (clear_point).
+  double below_ = 0.0;
   // Where every configuration of a box is in contact, a pair need only be
   // proven apart: this far (4G and the tie tolerance) settles it.
   double contact_cutoff_ = 0.0;

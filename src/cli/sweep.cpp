@@ -648,7 +648,8 @@ Json summary_json(const SweepArgs& args, const Scene& scene, const Checker& chec
   j["axes"] = jaxes;
   j["configurations"] = grid.total;
   // Configurations whose distance is exact (in contact, or some pair
-  // within the cutoff): distance.npy is a certified lower bound elsewhere.
+  // within the cutoff and not certified in clearance): distance.npy is a
+  // certified lower bound elsewhere.
   j["checked"] = tally.checked;
   // witnessed: configurations in contact by a box's crossing witness, with
   // no test of their own (counted in checked: their distance, 0, is exact).
@@ -678,8 +679,9 @@ Json summary_json(const SweepArgs& args, const Scene& scene, const Checker& chec
                          {"parts", {checker.part_name(closest.part_a), checker.part_name(closest.part_b)}},
                          {"at", at}};
   } else if (std::isfinite(tally.bound_min)) {
-    // Every configuration without contact is certified beyond the cutoff:
-    // the smallest certified bound, where it holds, and no pair.
+    // Some configuration without contact has only a certified bound (beyond
+    // the cutoff, or certified in clearance) below every exact distance:
+    // the smallest such bound, where it holds, and no pair.
     std::vector<double> params;
     grid.decode(tally.bound_index, params, nullptr);
     Json at = Json::object();
@@ -738,7 +740,8 @@ void print_summary(std::ostream& out, const Scene& scene, const Checker& checker
         << ", z " << num(lo.z() / unit) << " .. " << num(hi.z() / unit) << "\n";
   if (tally.blocks > 0)
     out << "  exact distances at " << tally.checked << " configurations (" << pct(tally.checked)
-        << "%); the rest certified clear of the margin in " << tally.blocks << " blocks\n"
+        << "%); the rest certified (clear of the margin's cutoff, or in clearance) in " << tally.blocks
+        << " blocks\n"
         << "  in contact by a crossing witness, untested: " << tally.witnessed << " configurations ("
         << pct(tally.witnessed) << "%, " << tally.contact_boxes << " boxes)\n";
   const double check_seconds = tally.check_seconds;

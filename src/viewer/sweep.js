@@ -48,7 +48,10 @@ export function sweepPage(data, root) {
       `(${axes.filter((a) => a.stride > 1).map((a) => `${a.name} in blocks of ${a.stride} values`).join(', ')}; the arm is posed at the first value of a block). ` +
       `"all" counts every configuration (sweep.json); "this slice" counts cells. verdict.npy holds every configuration.` }));
   }
-  if (sweep.min_distance) aside.append(el('p', { class: 'hint', text: `closest without contact: ${fmt(sweep.min_distance.distance)} ${unit} (${sweep.min_distance.parts.join(' / ')})` }));
+  // A certified bound (is_bound) names no pair: see docs/sweeps.md.
+  if (sweep.min_distance) aside.append(el('p', { class: 'hint', text: sweep.min_distance.is_bound
+    ? `closest without contact: at least ${fmt(sweep.min_distance.distance)} ${unit} (a certified bound; distance.npy has each configuration's)`
+    : `closest without contact: ${fmt(sweep.min_distance.distance)} ${unit} (${sweep.min_distance.parts.join(' / ')})` }));
 
   // Axis choice and sliders for the others.
   aside.append(el('h2', { text: 'Slice' }));

@@ -21,6 +21,13 @@ try {
   assert.deepEqual(await page.evaluate(() => window.plancheck.counts()), expected);
   const total = Object.values(expected).reduce((x, y) => x + y, 0);
   assert.equal(total, sweep.configurations);
+  // The closest configuration without contact: its pair, or a certified bound (no pair).
+  if (sweep.min_distance) {
+    const hint = await page.$$eval('p.hint', (ps) => ps.map((p) => p.textContent).find((t) => t.startsWith('closest without contact')));
+    assert.ok(hint, 'the closest configuration without contact is shown');
+    if (sweep.min_distance.is_bound) assert.match(hint, /at least .*certified bound/);
+    else assert.ok(hint.includes(sweep.min_distance.parts.join(' / ')), hint);
+  }
 
   // Each slice's counts: summed over every value of a third axis (the others
   // fixed) they equal the counts of the sub-grid, computed from sweep.json's axes.
