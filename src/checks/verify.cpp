@@ -153,7 +153,7 @@ Checker::InstanceId::InstanceId() {
 }
 
 Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const Checker* reuse)
-    : scene_(scene), motion_(scene) {
+    : scene_(scene), chain_prefixes_(chain_prefixes(scene)), motion_(scene) {
   std::vector<const Mesh*> meshes;
   for (const Part& p : scene.parts) {
     names_.push_back(p.name);
@@ -616,7 +616,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   };
   static thread_local Scratch scratch;
   std::vector<Affine>& chains = scratch.chains;
-  chain_transforms(scene_, params, chains);
+  chain_transforms(scene_, chain_prefixes_, params, chains);
   const std::size_t n = models_.size();
   std::vector<const Affine*>& pose = scratch.pose;
   std::vector<Box>& box = scratch.box;
@@ -1194,7 +1194,7 @@ void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std
     }
   };
   if (parts.empty()) {
-    chain_transforms(scene_, params, out.chains);
+    chain_transforms(scene_, chain_prefixes_, params, out.chains);
     for (std::size_t i = 0; i < n; ++i) pose_one(i);
     return;
   }

@@ -404,6 +404,7 @@ class Checker {
   bool has_terrain_pairs_ = false;
   std::vector<int> chain_of_;           // chain id per checked part, -1 when static
   std::vector<int> moving_parts_;       // the parts with a chain, ascending: what a state poses
+  std::vector<int> chain_prefixes_;     // chain_prefixes(scene_), once
   // A number of its own per checker, a copy drawing a new one: check_pairs'
   // per-thread scratch keeps the static parts' poses and boxes of the
   // checker numbered so (never 0).
