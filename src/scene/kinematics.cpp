@@ -103,16 +103,19 @@ void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::sp
   for (std::size_t c = 0; c < scene.chains.size(); ++c) {
     const std::vector<int>& chain = scene.chains[c];
     const int p = prefixes[c];
-    std::size_t i = 0;
-    Affine& t = out[c];
-    if (p >= 0) {
-      t = out[static_cast<std::size_t>(p)];
-      i = scene.chains[static_cast<std::size_t>(p)].size();
-    } else {
-      t = Affine::Identity();
+    static const Affine kIdentity = Affine::Identity();
+    const Affine& start = p >= 0 ? out[static_cast<std::size_t>(p)] : kIdentity;
+    std::size_t i = p >= 0 ? scene.chains[static_cast<std::size_t>(p)].size() : 0;
+    if (i == chain.size()) {
+      out[c] = start;
+      continue;
     }
-    for (; i < chain.size(); ++i)
-      t = t * action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[i])], params);
+    const auto action = [&](std::size_t k) {
+      return action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[k])], params);
+    };
+    Affine& t = out[c];
+    t = start * action(i);
+    for (++i; i < chain.size(); ++i) t = t * action(i);
   }
 }
 
