@@ -165,7 +165,7 @@ Checker::InstanceId::InstanceId() {
 }
 
 Checker::Checker(const Scene& scene, int threads, const BuiltAhead* ahead, const Checker* reuse)
-    : scene_(scene), motion_(scene) {
+    : scene_(scene), chain_prefixes_(chain_prefixes(scene)), motion_(scene) {
   std::vector<const Mesh*> meshes;
   for (const Part& p : scene.parts) {
     names_.push_back(p.name);
@@ -374,38 +374,53 @@ void Checker::set_gap_rows() {
       self(self, begin + half, end);
     };
     split(split, 0, pairs.size());
-    // The unions, exact (minima and maxima of finite values).
+    // Blocks of two: box j of a block sits in lane j % 2 of each coordinate.
     constexpr double kInf = std::numeric_limits<double>::infinity();
-    rows.root = {kInf, kInf, kInf, -kInf, -kInf, -kInf};
+    const std::array<double, 6> never = {kInf, kInf, kInf, -kInf, -kInf, -kInf};  // meets nothing
+    const auto put = [](std::vector<double>& blocks, std::size_t j, const std::array<double, 6>& b) {
+      if (blocks.size() < (j / 2 + 1) * 12) blocks.resize((j / 2 + 1) * 12, 0.0);
+      for (std::size_t i = 0; i < 6; ++i) blocks[j / 2 * 12 + 2 * i + j % 2] = b[i];
+    };
+    // The unions, exact (minima and maxima of finite values).
+    rows.root = never;
+    const std::vector<std::uint32_t> order = pairs;
+    // A NaN in a partner's box (a world object placed beyond the range of
+    // doubles) would be lost in a minimum: such a part's unions are NaN,
+    // whose gap is NaN, never apart.
+    bool nan = false;
+    for (std::uint32_t k : order) nan = nan || partner_box(k).first.hasNaN() || partner_box(k).second.hasNaN();
+    std::vector<std::uint32_t> ends;
+    ends.swap(rows.ends);
+    pairs.clear();
     std::size_t begin = 0;
-    for (std::uint32_t end : rows.ends) {
-      std::array<double, 6> u = {kInf, kInf, kInf, -kInf, -kInf, -kInf};
+    for (std::size_t c = 0; c < ends.size(); ++c) {
+      const std::size_t end = ends[c];
+      std::array<double, 6> u = never;
       for (std::size_t j = begin; j < end; ++j) {
-        const auto& [lo, hi] = partner_box(pairs[j]);
+        const auto& [lo, hi] = partner_box(order[j]);
+        const std::array<double, 6> b = {lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]};
+        put(rows.boxes, pairs.size(), b);
+        pairs.push_back(order[j]);
         for (std::size_t i = 0; i < 3; ++i) {
-          rows.rows[i].push_back(lo[static_cast<int>(i)]);
-          rows.rows[3 + i].push_back(hi[static_cast<int>(i)]);
-          u[i] = std::min(u[i], lo[static_cast<int>(i)]);
-          u[3 + i] = std::max(u[3 + i], hi[static_cast<int>(i)]);
+          u[i] = std::min(u[i], b[i]);
+          u[3 + i] = std::max(u[3 + i], b[3 + i]);
         }
       }
+      if (pairs.size() % 2 == 1) {  // each cluster starts a block (only the last one's count is odd)
+        put(rows.boxes, pairs.size(), never);
+        pairs.push_back(static_cast<std::uint32_t>(pairs_.size()));
+      }
+      rows.ends.push_back(static_cast<std::uint32_t>(pairs.size() / 2));
+      if (nan) u.fill(std::numeric_limits<double>::quiet_NaN());
+      put(rows.clusters, c, u);
       for (std::size_t i = 0; i < 3; ++i) {
-        rows.cluster_rows[i].push_back(u[i]);
-        rows.cluster_rows[3 + i].push_back(u[3 + i]);
         rows.root[i] = std::min(rows.root[i], u[i]);
         rows.root[3 + i] = std::max(rows.root[3 + i], u[3 + i]);
       }
       begin = end;
     }
-    // A NaN in a partner's box (a world object placed beyond the range of
-    // doubles) would be lost in a minimum: such a part's unions are NaN,
-    // whose gap is NaN, never apart.
-    bool nan = false;
-    for (std::uint32_t k : pairs) nan = nan || partner_box(k).first.hasNaN() || partner_box(k).second.hasNaN();
-    if (nan) {
-      rows.root.fill(std::numeric_limits<double>::quiet_NaN());
-      for (auto& row : rows.cluster_rows) std::fill(row.begin(), row.end(), std::numeric_limits<double>::quiet_NaN());
-    }
+    if (ends.size() % 2 == 1) put(rows.clusters, ends.size(), never);
+    if (nan) rows.root.fill(std::numeric_limits<double>::quiet_NaN());
   }
 }
 
@@ -628,7 +643,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   };
   static thread_local Scratch scratch;
   std::vector<Affine>& chains = scratch.chains;
-  chain_transforms(scene_, params, chains);
+  chain_transforms(scene_, chain_prefixes_, params, chains);
   const std::size_t n = models_.size();
   std::vector<const Affine*>& pose = scratch.pose;
   std::vector<Box>& box = scratch.box;
@@ -742,7 +757,7 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // The pairs apart, in visiting order: written by index, not push_back
   // (which GCC stops inlining in a function this long), sized at the end.
   std::vector<std::size_t>& order = scratch.order;
-  order.resize(pairs_.size());
+  if (request.distance) order.resize(pairs_.size());  // (collision only: unused; resizing from 0 zeroed it)
   std::size_t ordered = 0;
   // Verdict-only without a seed, a pair beyond `start` needs no square
   // root of its box gap: nothing reads its lower bound but the skipped
@@ -785,14 +800,16 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   const std::size_t pair_count = pairs_.size();
   std::vector<double>& gap2 = scratch.gap2;
   std::vector<std::uint32_t>& touching = scratch.touching;
-  gap2.resize(pair_count);
-  touching.resize(pair_count);
+  gap2.resize(pair_count + 1);  // [pair_count]: the padding rows' (GapRows)
+  touching.resize(pair_count + 1);
   std::size_t touching_count = 0;
-  // A moving part against its static partners: the rows of their boxes,
-  // two pairs at a time, with box_gap2's operations in its order; a pair
-  // joins `touching` (without a branch) when !(gap2 > 0), in the order of
-  // the rows, sorted into pair order below.
+  // A moving part against its static partners: their boxes two at a time,
+  // with box_gap2's operations in its order; a pair joins `touching`
+  // (without a branch) when !(gap2 > 0), in the order of the rows, sorted
+  // into pair order below.
   const bool with_distance = request.distance;
+  double* const gap2_at = gap2.data();
+  std::uint32_t* const touching_at = touching.data();
   for (const GapRows& g : gap_rows_) {
     const Box& m = box[static_cast<std::size_t>(g.part)];
     // The moving box in locals: the stores into gap2 below may alias it
@@ -802,54 +819,54 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
 #if defined(__SSE2__)
     const __m128d ml[3] = {_mm_set1_pd(mlo[0]), _mm_set1_pd(mlo[1]), _mm_set1_pd(mlo[2])};
     const __m128d mh[3] = {_mm_set1_pd(mhi[0]), _mm_set1_pd(mhi[1]), _mm_set1_pd(mhi[2])};
-    // Two gaps, squared, of the moving box to boxes j and j + 1 of `rows`.
-    const auto gaps2 = [&](const std::array<std::vector<double>, 6>& rows, std::size_t j) {
+    // The two gaps, squared, of the moving box to block b's boxes.
+    const auto gaps2 = [&](const double* b) {
       __m128d sq[3];
       for (std::size_t i = 0; i < 3; ++i) {
-        const __m128d u = _mm_sub_pd(ml[i], _mm_loadu_pd(rows[3 + i].data() + j));
-        const __m128d v = _mm_sub_pd(_mm_loadu_pd(rows[i].data() + j), mh[i]);
+        const __m128d u = _mm_sub_pd(ml[i], _mm_loadu_pd(b + 6 + 2 * i));
+        const __m128d v = _mm_sub_pd(_mm_loadu_pd(b + 2 * i), mh[i]);
         const __m128d d = _mm_max_pd(_mm_setzero_pd(), _mm_max_pd(v, u));
         sq[i] = _mm_mul_pd(d, d);
       }
       return _mm_add_pd(_mm_add_pd(sq[0], sq[1]), sq[2]);
     };
 #endif
-    // The gap, squared, of the moving box to box j of `rows`.
-    const auto gap2_of = [&](const std::array<std::vector<double>, 6>& rows, std::size_t j) {
+    // The gap, squared, of the moving box to box `lane` of block b.
+    [[maybe_unused]] const auto gap2_of = [&](const double* b, std::size_t lane) {
       double sq[3];
       for (std::size_t i = 0; i < 3; ++i) {
-        const double d = max0(std::max(mlo[i] - rows[3 + i][j], rows[i][j] - mhi[i]));
+        const double d = max0(std::max(mlo[i] - b[6 + 2 * i + lane], b[2 * i + lane] - mhi[i]));
         sq[i] = d * d;
       }
       return (sq[0] + sq[1]) + sq[2];
     };
-    // The pairs of rows [begin, end): their gaps, and those that meet.
+    // The pairs of blocks [begin, end): their gaps, and those that meet.
+    const std::uint32_t* const pairs = g.pairs.data();
+    const double* const boxes = g.boxes.data();
     const auto pair_gaps = [&](std::size_t begin, std::size_t end) {
-      const std::uint32_t* pairs = g.pairs.data();
-      std::size_t j = begin;
+      for (std::size_t j = begin; j < end; ++j) {
+        const std::uint32_t k0 = pairs[2 * j], k1 = pairs[2 * j + 1];
 #if defined(__SSE2__)
-      for (; j + 2 <= end; j += 2) {
-        const __m128d s = gaps2(g.rows, j);
-        const std::uint32_t k0 = pairs[j], k1 = pairs[j + 1];
-        gap2[k0] = _mm_cvtsd_f64(s);
-        gap2[k1] = _mm_cvtsd_f64(_mm_unpackhi_pd(s, s));
+        const __m128d s = gaps2(boxes + 12 * j);
+        gap2_at[k0] = _mm_cvtsd_f64(s);
+        gap2_at[k1] = _mm_cvtsd_f64(_mm_unpackhi_pd(s, s));
         // Lanes with !(s > 0): NaN too, as the scalar test below.
         const int meet = _mm_movemask_pd(_mm_cmpngt_pd(s, _mm_setzero_pd()));
-        touching[touching_count] = k0;
+#else
+        gap2_at[k0] = gap2_of(boxes + 12 * j, 0);
+        gap2_at[k1] = gap2_of(boxes + 12 * j, 1);
+        const int meet = static_cast<int>(!(gap2_at[k0] > 0.0)) | static_cast<int>(!(gap2_at[k1] > 0.0)) << 1;
+#endif
+        touching_at[touching_count] = k0;
         touching_count += static_cast<std::size_t>(meet & 1);
-        touching[touching_count] = k1;
+        touching_at[touching_count] = k1;
         touching_count += static_cast<std::size_t>(meet >> 1);
       }
-#endif
-      for (; j < end; ++j) {
-        const double g2 = gap2_of(g.rows, j);
-        gap2[pairs[j]] = g2;
-        touching[touching_count] = pairs[j];
-        touching_count += !(g2 > 0.0);
-      }
     };
+    const std::uint32_t* const ends = g.ends.data();
+    const std::size_t clusters = g.ends.size();
     if (with_distance) {
-      pair_gaps(0, g.pairs.size());  // every pair's gap is a lower bound the search reads
+      pair_gaps(0, clusters == 0 ? 0 : ends[clusters - 1]);  // every pair's gap is a lower bound the search reads
       continue;
     }
     // Collision only: the pairs of the clusters whose union meets the
@@ -865,23 +882,23 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
       }
       if ((sq[0] + sq[1]) + sq[2] > 0.0) continue;
     }
-    const std::size_t clusters = g.ends.size();
-    const auto cluster = [&](std::size_t c) { pair_gaps(c == 0 ? 0 : g.ends[c - 1], g.ends[c]); };
-    std::size_t c = 0;
+    const double* const unions = g.clusters.data();
+    for (std::size_t c = 0; c < clusters; c += 2) {
 #if defined(__SSE2__)
-    for (; c + 2 <= clusters; c += 2) {
-      const int meet = _mm_movemask_pd(_mm_cmpngt_pd(gaps2(g.cluster_rows, c), _mm_setzero_pd()));
-      if (meet & 1) cluster(c);
-      if (meet & 2) cluster(c + 1);
-    }
+      const int meet = _mm_movemask_pd(_mm_cmpngt_pd(gaps2(unions + 6 * c), _mm_setzero_pd()));
+#else
+      const int meet = static_cast<int>(!(gap2_of(unions + 6 * c, 0) > 0.0)) |
+                       static_cast<int>(!(gap2_of(unions + 6 * c, 1) > 0.0)) << 1;
 #endif
-    for (; c < clusters; ++c)
-      if (!(gap2_of(g.cluster_rows, c) > 0.0)) cluster(c);
+      // (A padding union meets nothing: an odd count's last bit stays 0.)
+      if (meet & 1) pair_gaps(c == 0 ? 0 : ends[c - 1], ends[c]);
+      if (meet & 2) pair_gaps(ends[c], ends[c + 1]);
+    }
   }
   for (std::uint32_t k : other_gap_pairs_) {
     const double g2 = box_gap2(box[static_cast<std::size_t>(pairs_[k].a)], box[static_cast<std::size_t>(pairs_[k].b)]);
-    gap2[k] = g2;
-    touching[touching_count] = k;
+    gap2_at[k] = g2;
+    touching_at[touching_count] = k;
     touching_count += !(g2 > 0.0);
   }
   // Pair order (the order contacts are found and listed in): a few pairs
@@ -1202,7 +1219,7 @@ void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std
     }
   };
   if (parts.empty()) {
-    chain_transforms(scene_, params, out.chains);
+    chain_transforms(scene_, chain_prefixes_, params, out.chains);
     for (std::size_t i = 0; i < n; ++i) pose_one(i);
     return;
   }

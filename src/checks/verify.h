@@ -419,6 +419,7 @@ class Checker {
   bool has_terrain_pairs_ = false;
   std::vector<int> chain_of_;           // chain id per checked part, -1 when static
   std::vector<int> moving_parts_;       // the parts with a chain, ascending: what a state poses
+  std::vector<int> chain_prefixes_;     // chain_prefixes(scene_), once
   // A number of its own per checker, a copy drawing a new one: check_pairs'
   // per-thread scratch keeps the static parts' poses and boxes of the
   // checker numbered so (never 0).
@@ -433,22 +434,29 @@ class Checker {
   std::vector<std::pair<Vec3, Vec3>> static_boxes_;  // posed (identity) boxes of static parts, once
   std::pair<Vec3, Vec3> terrain_box_;  // the undisturbed terrain's box, as check_pairs pads it, once
   // The box-gap pass of check_pairs: per moving part, its checked pairs
-  // with static parts (not the terrain) and those parts' boxes as six rows
-  // (lo x, y, z, hi x, y, z), so a state computes their gaps from
-  // contiguous rows; the other pairs (both moving, the terrain's, empty
-  // ones) one by one. Set by set_gap_rows() from pairs_ and static_boxes_.
+  // with static parts (not the terrain) and those parts' boxes in blocks of
+  // two (lo x, y, z, hi x, y, z, each coordinate of both boxes side by
+  // side: 12 doubles a block), so a state computes two gaps at a time from
+  // one contiguous array; the other pairs (both moving, the terrain's,
+  // empty ones) one by one. Set by set_gap_rows() from pairs_ and
+  // static_boxes_.
   // A collision-only state needs only the pairs whose boxes meet: the rows
-  // are ordered in clusters of a few spatially close partners (ends[c]
-  // ends cluster c), each with the union of their boxes (cluster_rows, the
-  // same six rows), and the union of all (root); a moving box apart from a
-  // union is apart from every box in it (check_pairs).
+  // are ordered in clusters of a few spatially close partners (cluster c
+  // ends at block ends[c]), each with the union of their boxes (clusters,
+  // the same blocks), and the union of all (root); a moving box apart from
+  // a union is apart from every box in it (check_pairs).
+  // A cluster with an odd count (the last one: the splits keep the others
+  // even) is padded with a box that meets nothing (lo +inf, hi -inf) and
+  // the pair index pairs_.size(), a slot of check_pairs' scratch that
+  // nothing reads; so is an odd count of clusters (with a union that meets
+  // nothing).
   struct GapRows {
     int part = -1;
-    std::vector<std::uint32_t> pairs;
-    std::array<std::vector<double>, 6> rows;
+    std::vector<std::uint32_t> pairs;  // pair index per row (two a block)
+    std::vector<double> boxes;         // 12 per block
     std::array<double, 6> root{};
-    std::vector<std::uint32_t> ends;
-    std::array<std::vector<double>, 6> cluster_rows;
+    std::vector<std::uint32_t> ends;   // per cluster: its last block + 1
+    std::vector<double> clusters;      // the unions, 12 per block of two clusters
   };
   std::vector<GapRows> gap_rows_;
   std::vector<std::uint32_t> other_gap_pairs_;

@@ -72,32 +72,55 @@ Affine compose(const Scene& scene, const std::vector<int>& chain, std::span<cons
 
 }  // namespace
 
-void chain_transforms(const Scene& scene, std::span<const double> params, std::vector<Affine>& out) {
-  out.resize(scene.chains.size());
+std::vector<int> chain_prefixes(const Scene& scene) {
+  // An arm's chains are prefixes of each other ([J1], [J1, J2], ...): a
+  // chain continues the product of the longest earlier chain that begins
+  // it. compose's product after those actions is that very value (the
+  // same products in the same order), so the result is the same bit for
+  // bit, and each action's transform (a sine and cosine) is computed
+  // once, not once per chain below it. (Cold verdict-only states of the
+  // default scene, 5 chains: compose, action_transform and sincos were
+  // 2.3% of the time.)
+  std::vector<int> from(scene.chains.size(), -1);
   for (std::size_t c = 0; c < scene.chains.size(); ++c) {
-    // An arm's chains are prefixes of each other ([J1], [J1, J2], ...): a
-    // chain continues the product of the longest earlier chain that begins
-    // it. compose's product after those actions is that very value (the
-    // same products in the same order), so the result is the same bit for
-    // bit, and each action's transform (a sine and cosine) is computed
-    // once, not once per chain below it. (Cold verdict-only states of the
-    // default scene, 5 chains: compose, action_transform and sincos were
-    // 2.3% of the time.)
     const std::vector<int>& chain = scene.chains[c];
-    std::size_t from = 0;
-    Affine t = Affine::Identity();
+    std::size_t longest = 0;
     for (std::size_t p = 0; p < c; ++p) {
       const std::vector<int>& prefix = scene.chains[p];
-      if (prefix.size() > from && prefix.size() <= chain.size() &&
+      if (prefix.size() > longest && prefix.size() <= chain.size() &&
           std::equal(prefix.begin(), prefix.end(), chain.begin())) {
-        from = prefix.size();
-        t = out[p];
+        longest = prefix.size();
+        from[c] = static_cast<int>(p);
       }
     }
-    for (std::size_t i = from; i < chain.size(); ++i)
-      t = t * action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[i])], params);
-    out[c] = t;
   }
+  return from;
+}
+
+void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::span<const double> params,
+                      std::vector<Affine>& out) {
+  out.resize(scene.chains.size());
+  for (std::size_t c = 0; c < scene.chains.size(); ++c) {
+    const std::vector<int>& chain = scene.chains[c];
+    const int p = prefixes[c];
+    static const Affine kIdentity = Affine::Identity();
+    const Affine& start = p >= 0 ? out[static_cast<std::size_t>(p)] : kIdentity;
+    std::size_t i = p >= 0 ? scene.chains[static_cast<std::size_t>(p)].size() : 0;
+    if (i == chain.size()) {
+      out[c] = start;
+      continue;
+    }
+    const auto action = [&](std::size_t k) {
+      return action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[k])], params);
+    };
+    Affine& t = out[c];
+    t = start * action(i);
+    for (++i; i < chain.size(); ++i) t = t * action(i);
+  }
+}
+
+void chain_transforms(const Scene& scene, std::span<const double> params, std::vector<Affine>& out) {
+  chain_transforms(scene, chain_prefixes(scene), params, out);
 }
 
 Affine part_transform(const Scene& scene, int part, std::span<const double> params) {

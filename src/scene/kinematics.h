@@ -33,6 +33,16 @@ Affine action_transform_at(const Scene& scene, const Action& action, std::span<c
 // given a full parameter vector in scene.parameter_names order.
 void chain_transforms(const Scene& scene, std::span<const double> params, std::vector<Affine>& out);
 
+// Per chain of scene.chains: the longest earlier chain that begins it (the
+// first of equal length), whose product chain_transforms continues, or -1.
+// It depends on the chains alone; a caller posing many states keeps it.
+std::vector<int> chain_prefixes(const Scene& scene);
+
+// chain_transforms with chain_prefixes(scene) kept by the caller: the same
+// values bit for bit.
+void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::span<const double> params,
+                      std::vector<Affine>& out);
+
 // The transform that poses part `part` (identity for static parts).
 Affine part_transform(const Scene& scene, int part, std::span<const double> params);
 
