@@ -100,7 +100,7 @@ struct SweepCertifier::Context {
   // the earlier ones need only be proven apart.
   std::vector<std::int32_t> cert = {};
   std::vector<std::array<Vec3, 6>> crossings = {};  // scratch
-  std::vector<SolidHint> hints = {};  // per pair: its last part-scale witness
+  std::vector<SolidHint> solid_hints = {};  // per pair: its last part-scale witness
   std::vector<double> params = {};  // scratch
   PosedParts posed = {};
   std::vector<double> since = {};
@@ -477,8 +477,8 @@ bool SweepCertifier::may_solid(std::size_t k) const {
 
 bool SweepCertifier::solid(Context& c, std::size_t k, const std::vector<double>& lo, const std::vector<double>& hi,
                            const std::vector<double>& centre) const {
-  if (c.hints.size() <= k) c.hints.resize(pair_parts_.size());
-  c.hints[k].ratio = 0.0;
+  if (c.solid_hints.size() <= k) c.solid_hints.resize(pair_parts_.size());
+  c.solid_hints[k].ratio = 0.0;
   const auto [a, b] = pair_parts_[k];
   if (a < 0 || b < 0 || static_cast<std::size_t>(a) >= scene_.parts.size() ||
       static_cast<std::size_t>(b) >= scene_.parts.size())
@@ -495,7 +495,7 @@ bool SweepCertifier::solid(Context& c, std::size_t k, const std::vector<double>&
   m.whole_b = box_motion_.reach(b, lb);
   m.pad = 8.0 * guard_ + 1e-12;
   return solid_crossing(scene_.parts[ua].mesh, pieces(a), *c.posed.pose[ua], scene_.parts[ub].mesh, pieces(b),
-                        *c.posed.pose[ub], m, c.hints[k]);
+                        *c.posed.pose[ub], m, c.solid_hints[k]);
 }
 
 bool SweepCertifier::crossing(const std::vector<std::array<Vec3, 6>>& crossings, double da, double db) const {
@@ -615,7 +615,7 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
         }
         // Halving a side at most halves the moves: not worth it when the
         // best candidate cleared less than half of them.
-        if (!solid_room || n < 2 * kWitnessBox || !(c.hints[p.pair].ratio >= kWitnessShare)) return;
+        if (!solid_room || n < 2 * kWitnessBox || !(c.solid_hints[p.pair].ratio >= kWitnessShare)) return;
         std::size_t split = 0;
         for (std::size_t k = 1; k < d; ++k)
           if (hi[k] - lo[k] > hi[split] - lo[split]) split = k;
