@@ -649,6 +649,13 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
     still_lb.push_back(lb);
   };
   bool witnessed = false;
+  auto pose_centre = [&] {  // once a box, kept in c.pool for the pairs' Pending::at
+    if (posed_done) return;
+    checker_.pose_parts(qc, c.posed, g.parts);
+    c.pool.push_back(qc);
+    centre = c.pool.size() - 1;
+    posed_done = true;
+  };
   for (const Pending& p : pending) {
     const std::size_t k = p.pair;
     const double m = pair_reach(k, qlo, qhi, qc);
@@ -673,12 +680,7 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
     const bool in_contact = p.at >= 0 && p.ub == 0.0;
     const bool may_cross = witness && in_contact;
     if (movable && in_contact && may_solid(k)) {
-      if (!posed_done) {
-        checker_.pose_parts(qc, c.posed, g.parts);
-        c.pool.push_back(qc);
-        centre = c.pool.size() - 1;
-        posed_done = true;
-      }
+      pose_centre();
       ++out.pair_checks;
       if (solid(c, k, qlo, qhi, qc)) {
         mark_contact(k);
@@ -690,12 +692,7 @@ void SweepCertifier::certify(Context& c, std::vector<std::size_t>& lo, std::vect
       keep(p, m, lb);
       continue;
     }
-    if (!posed_done) {
-      checker_.pose_parts(qc, c.posed, g.parts);
-      c.pool.push_back(qc);
-      centre = c.pool.size() - 1;
-      posed_done = true;
-    }
+    pose_centre();
     ++out.pair_checks;
     Pending q = p;
     q.at = static_cast<int>(centre);

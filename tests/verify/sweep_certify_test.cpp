@@ -155,12 +155,13 @@ TEST(SweepCertify, BarOverSlabEqualsCheckingEachConfiguration) {
   EXPECT_LT(run.summary["checked"].get<std::size_t>(), run.summary["configurations"].get<std::size_t>());
 }
 
-// A 2 mm wall in the way of a two-link arm (a URDF robot).
-void write_wall_scene(const TempDir& dir) {
-  write_text(dir / "arm.urdf", R"(<robot name="wall_arm">
+// A two-link arm (a URDF robot) and one fixed link in its way, `obstacle`
+// (a <link> named as the test needs, fixed to the base).
+void write_arm_scene(const TempDir& dir, const std::string& obstacle, const std::string& name) {
+  write_text(dir / "arm.urdf", R"(<robot name="arm">
   <link name="base"/>
-  <link name="wall"><collision><origin xyz="1.2 0.9 0.5"/><geometry><box size="1.6 0.002 1.6"/></geometry></collision></link>
-  <joint name="wall_mount" type="fixed"><parent link="base"/><child link="wall"/></joint>
+  )" + obstacle + R"(
+  <joint name="obstacle_mount" type="fixed"><parent link="base"/><child link=")" + name + R"("/></joint>
   <link name="upper"><collision><origin xyz="0.5 0 0"/><geometry><box size="1.0 0.1 0.1"/></geometry></collision></link>
   <joint name="J1" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.5"/>
     <axis xyz="0 0 1"/><limit lower="-3.1" upper="3.1" effort="1" velocity="1"/></joint>
@@ -173,6 +174,14 @@ void write_wall_scene(const TempDir& dir) {
   "format": "plancheck-scene/1", "length_unit": "m", "angle_unit": "rad",
   "robot": {"urdf": "arm.urdf"}, "safety_margin": 0.02
 })");
+}
+
+// A 2 mm wall in the arm's way.
+void write_wall_scene(const TempDir& dir) {
+  write_arm_scene(
+      dir,
+      R"(<link name="wall"><collision><origin xyz="1.2 0.9 0.5"/><geometry><box size="1.6 0.002 1.6"/></geometry></collision></link>)",
+      "wall");
 }
 
 // Whether sweep.json lists a colliding pair with this part.
@@ -295,22 +304,10 @@ TEST(SweepCertify, ContactRegionsEqualCheckingEachConfiguration) {
 // alone; most contacts never tested one by one.
 TEST(SweepCertify, DeepContactsInAClosedPartAreWitnessedAtThePartsScale) {
   TempDir dir("sweep-certify-drum");
-  write_text(dir / "arm.urdf", R"(<robot name="drum_arm">
-  <link name="base"/>
-  <link name="drum"><collision><origin xyz="1.9 0 0.5"/><geometry><cylinder radius="0.3" length="0.6"/></geometry></collision></link>
-  <joint name="drum_mount" type="fixed"><parent link="base"/><child link="drum"/></joint>
-  <link name="upper"><collision><origin xyz="0.5 0 0"/><geometry><box size="1.0 0.1 0.1"/></geometry></collision></link>
-  <joint name="J1" type="revolute"><parent link="base"/><child link="upper"/><origin xyz="0 0 0.5"/>
-    <axis xyz="0 0 1"/><limit lower="-3.1" upper="3.1" effort="1" velocity="1"/></joint>
-  <link name="fore"><collision><origin xyz="0.56 0 0"/><geometry><box size="0.9 0.08 0.08"/></geometry></collision></link>
-  <joint name="J2" type="revolute"><parent link="upper"/><child link="fore"/><origin xyz="1.0 0 0"/>
-    <axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" effort="1" velocity="1"/></joint>
-</robot>
-)");
-  write_text(dir / "scene.json", R"({
-  "format": "plancheck-scene/1", "length_unit": "m", "angle_unit": "rad",
-  "robot": {"urdf": "arm.urdf"}, "safety_margin": 0.02
-})");
+  write_arm_scene(
+      dir,
+      R"(<link name="drum"><collision><origin xyz="1.9 0 0.5"/><geometry><cylinder radius="0.3" length="0.6"/></geometry></collision></link>)",
+      "drum");
   const std::string grid = testing::kSanitized ? "J1=-0.5:0.5:0.01,J2=-0.6:0.6:0.02" : "J1=-0.5:0.5:0.005,J2=-0.6:0.6:0.005";
   const SweepRun run = expect_certified_equals_exact(dir / "scene.json", grid, dir);
   const std::size_t collisions = run.summary["counts"]["collision"];
