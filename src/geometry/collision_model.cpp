@@ -649,6 +649,23 @@ struct OverlapQuery {
     return result.triangle_pairs.size() >= limit;
   }
 
+  // Leaves x and y in double, with each triangle's box: only the triangles
+  // some pair still needs (row i of masks: a_i's pairs; any: their union)
+  // are mapped (a triangle's coordinates do not depend on which others are).
+  void map_leaves(const BvhNode& x, const BvhNode& y, const std::uint32_t* masks, std::uint32_t any,
+                  double (*tri_a)[9], double (*tri_b)[9], double (*box_a)[6], double (*box_b)[6]) const {
+    for (std::uint32_t i = 0; i < x.count; ++i) {
+      if (masks[i] == 0) continue;
+      s.a.triangle(x.index + i, tri_a[i]);
+      triangle_box(tri_a[i], box_a[i]);
+    }
+    for (std::uint32_t m = any; m != 0; m &= m - 1) {
+      const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+      s.b.triangle(y.index + j, tri_b[j]);
+      triangle_box(tri_b[j], box_b[j]);
+    }
+  }
+
   // The leaves while near_below is open: the float distance bounds against
   // near_cut2 instead of the touch masks. Every pair that may touch is
   // among their candidates (a bound is at most the exact distance), so the
@@ -668,16 +685,7 @@ struct OverlapQuery {
     if (any == 0) return true;
     double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
     double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
-    for (std::uint32_t i = 0; i < x.count; ++i) {
-      if (lb.candidates[i] == 0) continue;
-      s.a.triangle(x.index + i, tri_a[i]);
-      triangle_box(tri_a[i], box_a[i]);
-    }
-    for (std::uint32_t m = any; m != 0; m &= m - 1) {
-      const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
-      s.b.triangle(y.index + j, tri_b[j]);
-      triangle_box(tri_b[j], box_b[j]);
-    }
+    map_leaves(x, y, lb.candidates, any, tri_a, tri_b, box_a, box_b);
     double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
     bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
     for (std::uint32_t i = 0; i < x.count; ++i)
@@ -737,22 +745,11 @@ struct OverlapQuery {
     std::uint32_t any = 0;
     for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
     if (any == 0) return true;
-    // Only the triangles some pair still needs are mapped in double (a
-    // triangle's coordinates do not depend on which others are mapped).
     double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
     // Exact per-triangle box prefilter: the boxes come from the very
     // doubles the exact test sees, so disjoint boxes prove disjointness.
     double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
-    for (std::uint32_t i = 0; i < x.count; ++i) {
-      if (touch[i] == 0) continue;
-      s.a.triangle(x.index + i, tri_a[i]);
-      triangle_box(tri_a[i], box_a[i]);
-    }
-    for (std::uint32_t m = any; m != 0; m &= m - 1) {
-      const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
-      s.b.triangle(y.index + j, tri_b[j]);
-      triangle_box(tri_b[j], box_b[j]);
-    }
+    map_leaves(x, y, touch, any, tri_a, tri_b, box_a, box_b);
     for (std::uint32_t i = 0; i < x.count; ++i)
       for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
         const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
