@@ -82,13 +82,7 @@ std::vector<double> bounds_around(double d) {
 }
 
 Affine random_pose(std::mt19937_64& rng, double spread, bool scaled) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-  q.normalize();
-  Affine t = Affine::Identity();
-  t.linear() = q.toRotationMatrix();
-  t.translation() = spread * Vec3(u(rng), u(rng), u(rng));
+  Affine t = testing::random_rigid(rng, Vec3::Zero(), spread);
   if (scaled) {
     std::uniform_real_distribution<double> s(0.6, 1.6);
     t = t * Eigen::Scaling(s(rng), s(rng), s(rng));
