@@ -64,6 +64,10 @@ namespace {
 // proves something at the scale of the tie tolerance (1e-12 m).
 constexpr double kTightRel = 1e-14;
 
+// Prune a node pair only when its lower bound clears the best distance by
+// more than the rounding of the squared box gaps.
+constexpr double kShrink = 1.0 - 1e-12;
+
 // One side of a query: its data, its map into the working frame and the
 // margin that covers rounding of that map.
 struct Side {
@@ -240,19 +244,32 @@ struct Setup {
   // proven apart: a's box against b's mapped into the working frame
   // (Arvo's enclosing box), then the reverse. Both widened by the rounding
   // margins, as the box-only culling uses them.
-  bool aabb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
+  // With reach2 > 0: proven at least sqrt(reach2) apart instead, by the
+  // same lower bounds the distance descent prunes with (DistanceQuery::lower2).
+  bool aabb_disjoint(std::uint32_t ia, std::uint32_t ib, double reach2 = 0.0) const {
     double alo[3], ahi[3], blo[3], bhi[3];
     a.box(ia, alo, ahi);
     b.box(ib, blo, bhi);
+    if (reach2 > 0.0)
+      return std::max(box_distance_squared(alo, ahi, blo, bhi), reverse_lower2(ia, ib)) * kShrink >= reach2;
     return !boxes_overlap(alo, ahi, blo, bhi) || reverse_lower2(ia, ib) > 0.0;
   }
 
-  // True when the node boxes are proven disjoint (kernels/obb.h).
-  bool obb_disjoint(std::uint32_t ia, std::uint32_t ib) const {
+  // True when the node boxes are proven disjoint (kernels/obb.h); with
+  // reach > 0, farther apart than reach (obb_widen).
+  bool obb_disjoint(std::uint32_t ia, std::uint32_t ib, double reach = 0.0) const {
     ObbPair p;
     obb_pair(ia, ib, p);
-    return plancheck::obb_disjoint(p.rel, a.data->obbs[ia].half, b.data->obbs[ib].half, p.tol);
+    return plancheck::obb_disjoint(p.rel, a.data->obbs[ia].half, b.data->obbs[ib].half, p.tol + obb_widen(reach));
   }
+
+  // What a separating-axis test's tolerance grows by so that "disjoint"
+  // proves the boxes more than reach apart: a gap on a face axis (unit, up
+  // to rounding) is a distance; on an edge-cross axis a_i x b_j, of length
+  // at most 1 (up to rounding) and projections of radii widened by abs_r's
+  // epsilon, the gap as computed is at most the distance times that length.
+  // The factor covers those roundings many times over.
+  static double obb_widen(double reach) { return reach > 0.0 ? reach * (1.0 + 1e-9) : 0.0; }
 
   // Distance lower bound of the node boxes (kernels/obb.h).
   double obb_lower(std::uint32_t ia, MappedB& mb) const {
@@ -562,13 +579,44 @@ struct OverlapQuery {
   const BvhNode* nb = s.b.data->bvh.nodes.data();
   const LeafKernels& kernels = leaf_kernels();
   const LeafSide side_a = s.a.leaf_side(), side_b = s.b.leaf_side();
+  // CollideRequest::near_below (0: not asked). While its answer is open,
+  // every cull is widened to reach = near_below + the kernel's rounding
+  // slack (as DistanceQuery::kernel_slack): a node pair is dropped only
+  // when every triangle pair below it is proven at least reach apart, so
+  // the distance kernel would give it at least near_below, and a pair
+  // that may touch is never dropped. Once a pair closer than near_below
+  // (or a contact) is found, reach is 0 and the culls are the plain ones.
+  // Either way only pairs holding no contact are dropped, in the order of
+  // the rest, so the contacts are found in the same order as without it.
+  bool near_asked = false;
+  double near_below = 0.0;
+  double reach = 0.0, reach2 = 0.0;
+  float near_cut2 = 0.0f;  // reach^2 rounded up to float: the leaves' float cut
+
+  void ask_near(double below) {
+    near_asked = true;
+    near_below = below;
+    const double r = below + 1e-13 * std::max(side_a.size, side_b.size) + 1e-300;
+    if (!std::isfinite(r * r)) {  // (NaN, or too far to square): nothing proven
+      result.near = true;
+      return;
+    }
+    reach = r;
+    reach2 = r * r;
+    near_cut2 = round_up(reach2 * (1.0 + 1e-15));
+  }
+  // A pair closer than near_below, or a contact, was found.
+  void near_found() {
+    result.near = near_asked;
+    reach = reach2 = 0.0;
+  }
 
   void visited() { ++result.node_pairs_visited; }
 
   bool disjoint(const Pair& p, Cull& c) const {
     if (s.obb) {
       // A negative lower2 marks a pair split() already tested (kept: not disjoint).
-      if (!(p.lower2 < 0.0) && s.obb_disjoint(p.a, p.b)) return true;
+      if (!(p.lower2 < 0.0) && s.obb_disjoint(p.a, p.b, reach)) return true;
       c.size_a = s.obb_size(p.a, true);
       c.size_b = s.obb_size(p.b, false);
       return false;
@@ -576,16 +624,113 @@ struct OverlapQuery {
     double alo[3], ahi[3], blo[3], bhi[3];
     s.a.box(p.a, alo, ahi);
     s.b.box(p.b, blo, bhi);
-    if (!boxes_overlap(alo, ahi, blo, bhi)) return true;
-    if (s.reverse_lower2(p.a, p.b) > 0.0) return true;
+    if (reach > 0.0) {
+      if (std::max(box_distance_squared(alo, ahi, blo, bhi), s.reverse_lower2(p.a, p.b)) * kShrink >= reach2)
+        return true;
+    } else {
+      if (!boxes_overlap(alo, ahi, blo, bhi)) return true;
+      if (s.reverse_lower2(p.a, p.b) > 0.0) return true;
+    }
     c.size_a = box_size(alo, ahi);
     c.size_b = box_size(blo, bhi);
     return false;
   }
 
+  // Contact at working-frame slots (sa, sb): listed, and true when the
+  // listing is full (stop).
+  bool record(std::uint32_t sa, std::uint32_t sb) {
+    std::uint32_t ia = s.a.data->bvh.prim_ids[sa];
+    std::uint32_t ib = s.b.data->bvh.prim_ids[sb];
+    if (s.swapped) std::swap(ia, ib);
+    if (hit && !hit->found) *hit = FirstHit{true, sa, sb};
+    result.collide = true;
+    result.triangle_pairs.emplace_back(ia, ib);
+    near_found();
+    return result.triangle_pairs.size() >= limit;
+  }
+
+  // Leaves x and y in double, with each triangle's box: only the triangles
+  // some pair still needs (row i of masks: a_i's pairs; any: their union)
+  // are mapped (a triangle's coordinates do not depend on which others are).
+  void map_leaves(const BvhNode& x, const BvhNode& y, const std::uint32_t* masks, std::uint32_t any,
+                  double (*tri_a)[9], double (*tri_b)[9], double (*box_a)[6], double (*box_b)[6]) const {
+    for (std::uint32_t i = 0; i < x.count; ++i) {
+      if (masks[i] == 0) continue;
+      s.a.triangle(x.index + i, tri_a[i]);
+      triangle_box(tri_a[i], box_a[i]);
+    }
+    for (std::uint32_t m = any; m != 0; m &= m - 1) {
+      const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+      s.b.triangle(y.index + j, tri_b[j]);
+      triangle_box(tri_b[j], box_b[j]);
+    }
+  }
+
+  // The leaves while near_below is open: the float distance bounds against
+  // near_cut2 instead of the touch masks. Every pair that may touch is
+  // among their candidates (a bound is at most the exact distance), so the
+  // exact overlap tests meet the touching pairs in the same order; the
+  // other candidates then get the distance kernel (they are disjoint),
+  // until one comes closer than near_below.
+  bool leaves_near(const Pair& p) {
+    const BvhNode& x = na[p.a];
+    const BvhNode& y = nb[p.b];
+    LeafPairInput in;
+    make_leaf_pair(side_a, x.index, static_cast<int>(x.count), x.lo, x.hi, side_b, y.index,
+                   static_cast<int>(y.count), y.lo, y.hi, in);
+    LeafPairBounds lb;
+    kernels.lower_bounds(in, near_cut2, lb);
+    std::uint32_t any = 0;
+    for (std::uint32_t i = 0; i < x.count; ++i) any |= lb.candidates[i];
+    if (any == 0) return true;
+    double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
+    double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
+    map_leaves(x, y, lb.candidates, any, tri_a, tri_b, box_a, box_b);
+    double norm_a[kMaxLeafSize][5], norm_b[kMaxLeafSize][5];
+    bool have_a[kMaxLeafSize] = {}, have_b[kMaxLeafSize] = {};
+    for (std::uint32_t i = 0; i < x.count; ++i)
+      for (std::uint32_t m = lb.candidates[i]; m != 0; m &= m - 1) {
+        const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
+        const double* p0 = tri_a[i];
+        const double* q0 = tri_b[j];
+        if (boxes_overlap(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3)) {
+          ++result.triangle_pairs_tested;
+          if (tri_tri_overlap(p0, p0 + 3, p0 + 6, q0, q0 + 3, q0 + 6)) {
+            if (record(x.index + i, y.index + j)) return false;
+            continue;
+          }
+        }
+        if (!(reach > 0.0) ||
+            box_distance_squared(box_a[i], box_a[i] + 3, box_b[j], box_b[j] + 3) * kShrink >= reach2)
+          continue;
+        // Disjoint (the exact test said so, or their boxes are apart). The
+        // separating axes DistanceQuery::leaves tries before its kernel, with
+        // the same slacks (1e-14 of the pair's largest coordinate), here
+        // against reach: the edge-edge axes, then each triangle's normal.
+        double big = 0.0;
+        for (int k = 0; k < 6; ++k) big = std::max({big, std::abs(box_a[i][k]), std::abs(box_b[j][k])});
+        const double slack = 1e-14 * big + 1e-300;
+        if (edge_axes_reach(p0, q0, reach, slack)) continue;
+        if (!have_a[i]) {
+          triangle_normal_span(p0, norm_a[i]);
+          have_a[i] = true;
+        }
+        if (!have_b[j]) {
+          triangle_normal_span(q0, norm_b[j]);
+          have_b[j] = true;
+        }
+        if (normal_gap(norm_a[i], q0) - slack >= reach || normal_gap(norm_b[j], p0) - slack >= reach) continue;
+        // The kernel distance() would run on them.
+        double pp[3], qq[3];
+        if (std::sqrt(kernels.tri_distance2(p0, q0, pp, qq)) < near_below) near_found();
+      }
+    return true;
+  }
+
   bool leaf_pair(const Pair& p) const { return na[p.a].is_leaf() && nb[p.b].is_leaf(); }
 
   bool leaves(const Pair& p) {
+    if (reach > 0.0) return leaves_near(p);
     const BvhNode& x = na[p.a];
     const BvhNode& y = nb[p.b];
     // SIMD float prefilter on the stored float triangles
@@ -600,22 +745,11 @@ struct OverlapQuery {
     std::uint32_t any = 0;
     for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
     if (any == 0) return true;
-    // Only the triangles some pair still needs are mapped in double (a
-    // triangle's coordinates do not depend on which others are mapped).
     double tri_a[kMaxLeafSize][9], tri_b[kMaxLeafSize][9];
     // Exact per-triangle box prefilter: the boxes come from the very
     // doubles the exact test sees, so disjoint boxes prove disjointness.
     double box_a[kMaxLeafSize][6], box_b[kMaxLeafSize][6];
-    for (std::uint32_t i = 0; i < x.count; ++i) {
-      if (touch[i] == 0) continue;
-      s.a.triangle(x.index + i, tri_a[i]);
-      triangle_box(tri_a[i], box_a[i]);
-    }
-    for (std::uint32_t m = any; m != 0; m &= m - 1) {
-      const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
-      s.b.triangle(y.index + j, tri_b[j]);
-      triangle_box(tri_b[j], box_b[j]);
-    }
+    map_leaves(x, y, touch, any, tri_a, tri_b, box_a, box_b);
     for (std::uint32_t i = 0; i < x.count; ++i)
       for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
         const std::uint32_t j = static_cast<std::uint32_t>(__builtin_ctz(m));
@@ -624,13 +758,7 @@ struct OverlapQuery {
         const double* q0 = tri_b[j];
         ++result.triangle_pairs_tested;
         if (!tri_tri_overlap(p0, p0 + 3, p0 + 6, q0, q0 + 3, q0 + 6)) continue;
-        std::uint32_t ia = s.a.data->bvh.prim_ids[x.index + i];
-        std::uint32_t ib = s.b.data->bvh.prim_ids[y.index + j];
-        if (s.swapped) std::swap(ia, ib);
-        if (hit && !hit->found) *hit = FirstHit{true, x.index + i, y.index + j};
-        result.collide = true;
-        result.triangle_pairs.emplace_back(ia, ib);
-        if (result.triangle_pairs.size() >= limit) return false;
+        if (record(x.index + i, y.index + j)) return false;
       }
     return true;
   }
@@ -671,7 +799,7 @@ struct OverlapQuery {
       // that test is a third of the work; either proof drops the pair.
       // Dropping a pair that holds no contact changes neither the order of
       // the rest nor which contact is found first.
-      if (box_cull && s.aabb_disjoint(kids[k].a, kids[k].b)) continue;
+      if (box_cull && s.aabb_disjoint(kids[k].a, kids[k].b, reach2)) continue;
       Setup::MappedB own;
       Setup::MappedB& mb = split_a ? shared : own;
       if (!split_a) s.map_b(kids[k].b, own);
@@ -679,7 +807,7 @@ struct OverlapQuery {
       const NodeObb& ob = s.b.data->obbs[kids[k].b];
       Setup::ObbPair op;
       s.obb_pair(kids[k].a, mb, op);
-      if (plancheck::obb_disjoint(op.rel, oa.half, ob.half, op.tol)) continue;
+      if (plancheck::obb_disjoint(op.rel, oa.half, ob.half, op.tol + Setup::obb_widen(reach))) continue;
       // A leaf against the other side's inner node: its few triangles,
       // each against that node's box. Large parts meshed coarsely (the
       // lander's and the ascender's bodies) have leaves of a few triangles
@@ -694,10 +822,10 @@ struct OverlapQuery {
       const BvhNode& kb = nb[kids[k].b];
       if (leaf_cull && kb.is_leaf() && !ka.is_leaf() && dwarfs(ob, oa)) {
         if (planes_b.node != kids[k].b) planes_b.fill(s.b, kids[k].b, kb);
-        if (box_clear_of_leaf(planes_b, oa.center, oa.axis, oa.half, 0.0)) continue;
+        if (box_clear_of_leaf(planes_b, oa.center, oa.axis, oa.half, 0.0, reach)) continue;
       } else if (leaf_cull && ka.is_leaf() && !kb.is_leaf() && dwarfs(oa, ob)) {
         if (planes_a.node != kids[k].a) planes_a.fill(s.a, kids[k].a, ka);
-        if (box_clear_of_leaf(planes_a, mb.cb, mb.bw, ob.half, s.obb_tol)) continue;
+        if (box_clear_of_leaf(planes_a, mb.cb, mb.bw, ob.half, s.obb_tol, reach)) continue;
       }
       key[n] = op.dist_centres / (std::min(oa.radius, ob.radius) + 1e-300);
       kids[n] = kids[k];
@@ -710,15 +838,12 @@ struct OverlapQuery {
 };
 
 void collide_in(const Setup& s, std::size_t limit, CollideResult& result, FirstHit* hit, bool box_cull = true,
-                bool leaf_cull = true) {
+                bool leaf_cull = true, double near_below = 0.0) {
   t_planes[0].node = t_planes[1].node = std::numeric_limits<std::uint32_t>::max();
   OverlapQuery q{s, limit, result, hit, box_cull, leaf_cull};
+  if (!(near_below <= 0.0)) q.ask_near(near_below);
   overlap_descent(q, t_stack, NodePair{0, 0, 0.0});
 }
-
-// Prune a node pair only when its lower bound clears the best distance by
-// more than the rounding of the squared box gaps.
-constexpr double kShrink = 1.0 - 1e-12;
 
 // Distance in a prepared working frame once no pair intersects, for
 // distance_descent (kernels/pair_traversal.h).
@@ -1129,14 +1254,14 @@ void contact_answer(const Setup& s, const FirstHit& hit, DistanceResult& result)
 
 void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
              const CollideRequest& request, CollideResult& result) {
-  result.collide = false;
+  result.collide = result.near = false;
   result.triangle_pairs.clear();
   result.node_pairs_visited = result.triangle_pairs_tested = 0;
   if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
   const Setup s = make_setup(a, ta, b, tb);
   FirstHit hit;
   collide_in(s, std::max<std::size_t>(1, request.max_triangle_pairs), result, request.contact ? &hit : nullptr,
-             request.box_cull, request.leaf_cull);
+             request.box_cull, request.leaf_cull, request.near_below);
   if (request.contact && hit.found) {
     *request.contact = DistanceResult{};
     contact_answer(s, hit, *request.contact);

@@ -56,11 +56,24 @@ struct CollideRequest {
   // the leaf's triangles' planes and the box's face axes (collision_model.cpp):
   // the same guarantee as box_cull; false only for the tests that show it.
   bool leaf_cull = true;
+  // When > 0: also whether the sets come closer than this (m), in the
+  // same traversal (CollideResult::near). The descent's culls are widened
+  // by it until the answer is known, so they keep the node pairs that may
+  // hold a triangle pair that close; they keep every pair that may touch
+  // as before, in the same order, so the collision answer, the listing,
+  // its order and the contact are the same as without it. 0: not asked.
+  double near_below = 0.0;
 };
 
 struct CollideResult {
   bool collide = false;                 // true when the sets touch or intersect (exact)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> triangle_pairs;  // (index in a, index in b)
+  // near_below asked and the sets apart: true when some triangle pair may be
+  // closer than near_below; false proves that distance() at this pose, with
+  // an upper_bound of at most near_below, finds nothing (every triangle
+  // pair's distance as its kernel computes it is at least near_below).
+  // Also true when the sets touch.
+  bool near = false;
   std::uint64_t node_pairs_visited = 0;   // statistics: BVH node pairs popped
   std::uint64_t triangle_pairs_tested = 0;  // statistics: exact triangle tests run
 };

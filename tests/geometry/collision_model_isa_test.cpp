@@ -17,13 +17,8 @@ namespace plancheck {
 namespace {
 
 Affine random_pose(std::mt19937_64& rng, const Vec3& around, double spread, bool scaled) {
-  std::normal_distribution<double> g(0.0, 1.0);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-  q.normalize();
-  Affine t = Affine::Identity();
-  t.linear() = q.toRotationMatrix();
-  t.translation() = around + spread * Vec3(u(rng), u(rng), u(rng));
+  Affine t = testing::random_rigid(rng, around, spread);
   if (scaled) t = t * Eigen::Scaling(0.7 + 0.5 * (u(rng) + 1), 0.8 + 0.2 * (u(rng) + 1), 1.1);
   return t;
 }

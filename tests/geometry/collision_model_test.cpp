@@ -27,16 +27,7 @@ using testing::posed_vertices;
 
 enum class PoseKind { kRigid, kScaleA, kScaleB, kScaleBoth };
 
-Affine random_rigid(std::mt19937_64& rng, const Vec3& around, double spread) {
-  std::normal_distribution<double> g(0.0, 1.0);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
-  q.normalize();
-  Affine t = Affine::Identity();
-  t.linear() = q.toRotationMatrix();
-  t.translation() = around + spread * Vec3(u(rng), u(rng), u(rng));
-  return t;
-}
+using testing::random_rigid;
 
 Affine with_scale(const Affine& t, std::mt19937_64& rng) {
   std::uniform_real_distribution<double> s(0.6, 1.6);

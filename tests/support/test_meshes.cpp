@@ -74,4 +74,15 @@ Mesh make_soup(std::uint64_t seed, int n, const Vec3& centre, double half_size, 
   return m;
 }
 
+Affine random_rigid(std::mt19937_64& rng, const Vec3& around, double spread) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::Quaterniond q(g(rng), g(rng), g(rng), g(rng));
+  q.normalize();
+  Affine t = Affine::Identity();
+  t.linear() = q.toRotationMatrix();
+  t.translation() = around + spread * Vec3(u(rng), u(rng), u(rng));
+  return t;
+}
+
 }  // namespace plancheck::testing

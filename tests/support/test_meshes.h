@@ -5,6 +5,7 @@
 #include "src/scene/scene.h"
 
 #include <cstdint>
+#include <random>
 
 namespace plancheck::testing {
 
@@ -18,5 +19,9 @@ Mesh make_torus(const Vec3& centre, double major_radius, double minor_radius, in
 // n independent random triangles in the box centre +- half_size, edge length
 // up to max_edge.
 Mesh make_soup(std::uint64_t seed, int n, const Vec3& centre, double half_size, double max_edge);
+
+// A uniformly random rotation (a normalised Gaussian quaternion) and a
+// translation uniform in around +- spread per axis.
+Affine random_rigid(std::mt19937_64& rng, const Vec3& around, double spread);
 
 }  // namespace plancheck::testing
