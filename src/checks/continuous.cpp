@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <optional>
@@ -171,9 +172,60 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
   std::vector<double> bounds;
   bound_.pair_bounds(plan_, qa, qb, bounds);
   CheckRequest request = row_request();
-  if (verdict_only) request.exact_below = end_limit(bounds);
-  checker_.check_state(qa, sa, request);
-  checker_.check_state(qb, sb, request);
+  if (verdict_only) {
+    // Exact up to the largest end_limit any segment can have (first limit
+    // plus the margin), not this segment's: the ends' floors, min(distance,
+    // end_limit), are the full check's all the same (a bound at least this
+    // limit is at least end_limit), and one state is asked the same
+    // question whichever motion it ends, so that the memo below can answer
+    // it. A non-finite end_limit (non-finite bounds) asks exact ends.
+    request.exact_below = end_limit(bounds) < std::numeric_limits<double>::infinity()
+                              ? first_limit() + std::max(margin_, options_.tolerance)
+                              : std::numeric_limits<double>::infinity();
+  }
+  // A planner checks many motions from one state (RRTConnect's connect
+  // steps go on from the last state added; a path's edges share their
+  // ends): the two end states this thread checked last are kept, keyed by
+  // the checker (each world version is a checker of its own), the state's
+  // bits and the request's limit, and taken instead of checking again.
+  // check_state without a seed is a function of exactly these, so a state
+  // taken is bit for bit the one checked.
+  struct EndMemo {
+    std::uint64_t checker = 0;  // Checker::instance_id(); 0: empty
+    std::vector<double> q;
+    double exact_below = 0.0;
+    StateResult result;
+  };
+  thread_local EndMemo memo[2];
+  auto same_bits = [](const std::vector<double>& x, const std::vector<double>& y) {
+    return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0);
+  };
+  const std::uint64_t id = checker_.instance_id();
+  auto find = [&](const std::vector<double>& q) -> int {
+    for (int i = 0; i < 2; ++i)
+      if (memo[i].checker == id && std::memcmp(&memo[i].exact_below, &request.exact_below, sizeof(double)) == 0 &&
+          same_bits(memo[i].q, q))
+        return i;
+    return -1;
+  };
+  const int hit_a = find(qa), hit_b = find(qb);
+  if (hit_a >= 0) sa = memo[hit_a].result; else checker_.check_state(qa, sa, request);
+  if (hit_b >= 0) sb = memo[hit_b].result; else checker_.check_state(qb, sb, request);
+  // Kept: this motion's ends, an entry this call took staying where it is.
+  auto keep = [&](int slot, const std::vector<double>& q, const StateResult& r) {
+    memo[slot].checker = id;
+    memo[slot].q = q;
+    memo[slot].exact_below = request.exact_below;
+    memo[slot].result = r;
+  };
+  if (hit_a < 0 && hit_b < 0) {
+    keep(0, qa, sa);
+    keep(1, qb, sb);
+  } else if (hit_a < 0) {
+    keep(1 - hit_b, qa, sa);
+  } else if (hit_b < 0) {
+    keep(1 - hit_a, qb, sb);
+  }
   return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds);
 }
 
