@@ -185,47 +185,48 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
   }
   // A planner checks many motions from one state (RRTConnect's connect
   // steps go on from the last state added; a path's edges share their
-  // ends): the two end states this thread checked last are kept, keyed by
-  // the checker (each world version is a checker of its own), the state's
-  // bits and the request's limit, and taken instead of checking again.
-  // check_state without a seed is a function of exactly these, so a state
-  // taken is bit for bit the one checked.
+  // ends; simplifying a path checks motions between its few states again
+  // and again): the end states this thread checked last (up to kKept, the
+  // least recently used replaced) are kept, keyed by the checker (each
+  // world version is a checker of its own), the state's bits and the
+  // request's limit, and taken instead of checking again. check_state
+  // without a seed is a function of exactly these, so a state taken is bit
+  // for bit the one checked.
   struct EndMemo {
     std::uint64_t checker = 0;  // Checker::instance_id(); 0: empty
+    std::uint64_t used = 0;     // when last taken or kept (the thread's count)
     std::vector<double> q;
     double exact_below = 0.0;
     StateResult result;
   };
-  thread_local EndMemo memo[2];
+  constexpr int kKept = 8;
+  thread_local EndMemo memo[kKept];
+  thread_local std::uint64_t clock = 0;
   auto same_bits = [](const std::vector<double>& x, const std::vector<double>& y) {
     return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0);
   };
   const std::uint64_t id = checker_.instance_id();
-  auto find = [&](const std::vector<double>& q) -> int {
-    for (int i = 0; i < 2; ++i)
+  auto end_state = [&](const std::vector<double>& q, StateResult& out, int other) {
+    for (int i = 0; i < kKept; ++i)
       if (memo[i].checker == id && std::memcmp(&memo[i].exact_below, &request.exact_below, sizeof(double)) == 0 &&
-          same_bits(memo[i].q, q))
+          same_bits(memo[i].q, q)) {
+        out = memo[i].result;
+        memo[i].used = ++clock;
         return i;
-    return -1;
-  };
-  const int hit_a = find(qa), hit_b = find(qb);
-  if (hit_a >= 0) sa = memo[hit_a].result; else checker_.check_state(qa, sa, request);
-  if (hit_b >= 0) sb = memo[hit_b].result; else checker_.check_state(qb, sb, request);
-  // Kept: this motion's ends, an entry this call took staying where it is.
-  auto keep = [&](int slot, const std::vector<double>& q, const StateResult& r) {
+      }
+    checker_.check_state(q, out, request);
+    int slot = other == 0 ? 1 : 0;  // never the other end's entry
+    for (int i = 0; i < kKept; ++i)
+      if (i != other && memo[i].used < memo[slot].used) slot = i;
     memo[slot].checker = id;
+    memo[slot].used = ++clock;
     memo[slot].q = q;
     memo[slot].exact_below = request.exact_below;
-    memo[slot].result = r;
+    memo[slot].result = out;
+    return slot;
   };
-  if (hit_a < 0 && hit_b < 0) {
-    keep(0, qa, sa);
-    keep(1, qb, sb);
-  } else if (hit_a < 0) {
-    keep(1 - hit_b, qa, sa);
-  } else if (hit_b < 0) {
-    keep(1 - hit_a, qb, sb);
-  }
+  const int slot_a = end_state(qa, sa, -1);
+  end_state(qb, sb, slot_a);
   return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds);
 }
 

@@ -83,7 +83,7 @@ class SegmentChecker {
   // first pass's target (the margin; contact without one) from qa up to this
   // fraction of it: 1 when nothing is found, else where the certificate
   // stopped before the first witness (0 at an end).
-  // The two end states a thread checked last are kept (per thread) and
+  // The end states a thread checked last (eight) are kept (per thread) and
   // taken for a later motion with an end of the same bits on this checker
   // in the same mode: a planner's chained motions check each state once.
   SegmentResult check_motion(const std::vector<double>& qa, const std::vector<double>& qb, bool verdict_only,
