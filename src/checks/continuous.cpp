@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <optional>
@@ -171,9 +172,61 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
   std::vector<double> bounds;
   bound_.pair_bounds(plan_, qa, qb, bounds);
   CheckRequest request = row_request();
-  if (verdict_only) request.exact_below = end_limit(bounds);
-  checker_.check_state(qa, sa, request);
-  checker_.check_state(qb, sb, request);
+  if (verdict_only) {
+    // Exact up to the largest end_limit any segment can have (first limit
+    // plus the margin), not this segment's: the ends' floors, min(distance,
+    // end_limit), are the full check's all the same (a bound at least this
+    // limit is at least end_limit), and one state is asked the same
+    // question whichever motion it ends, so that the memo below can answer
+    // it. A non-finite end_limit (non-finite bounds) asks exact ends.
+    request.exact_below = end_limit(bounds) < std::numeric_limits<double>::infinity()
+                              ? first_limit() + std::max(margin_, options_.tolerance)
+                              : std::numeric_limits<double>::infinity();
+  }
+  // A planner checks many motions from one state (RRTConnect's connect
+  // steps go on from the last state added; a path's edges share their
+  // ends; simplifying a path checks motions between its few states again
+  // and again): the end states this thread checked last (up to kKept, the
+  // least recently used replaced) are kept, keyed by the checker (each
+  // world version is a checker of its own), the state's bits and the
+  // request's limit, and taken instead of checking again. check_state
+  // without a seed is a function of exactly these, so a state taken is bit
+  // for bit the one checked.
+  struct EndMemo {
+    std::uint64_t checker = 0;  // Checker::instance_id(); 0: empty
+    std::uint64_t used = 0;     // when last taken or kept (the thread's count)
+    std::vector<double> q;
+    double exact_below = 0.0;
+    StateResult result;
+  };
+  constexpr int kKept = 8;
+  thread_local EndMemo memo[kKept];
+  thread_local std::uint64_t clock = 0;
+  auto same_bits = [](const std::vector<double>& x, const std::vector<double>& y) {
+    return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0);
+  };
+  const std::uint64_t id = checker_.instance_id();
+  auto end_state = [&](const std::vector<double>& q, StateResult& out, int other) {
+    for (int i = 0; i < kKept; ++i)
+      if (memo[i].checker == id && std::memcmp(&memo[i].exact_below, &request.exact_below, sizeof(double)) == 0 &&
+          same_bits(memo[i].q, q)) {
+        out = memo[i].result;
+        memo[i].used = ++clock;
+        return i;
+      }
+    checker_.check_state(q, out, request);
+    int slot = other == 0 ? 1 : 0;  // never the other end's entry
+    for (int i = 0; i < kKept; ++i)
+      if (i != other && memo[i].used < memo[slot].used) slot = i;
+    memo[slot].checker = id;
+    memo[slot].used = ++clock;
+    memo[slot].q = q;
+    memo[slot].exact_below = request.exact_below;
+    memo[slot].result = out;
+    return slot;
+  };
+  const int slot_a = end_state(qa, sa, -1);
+  end_state(qb, sb, slot_a);
   return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds);
 }
 

@@ -83,6 +83,9 @@ class SegmentChecker {
   // first pass's target (the margin; contact without one) from qa up to this
   // fraction of it: 1 when nothing is found, else where the certificate
   // stopped before the first witness (0 at an end).
+  // The end states a thread checked last (eight) are kept (per thread) and
+  // taken for a later motion with an end of the same bits on this checker
+  // in the same mode: a planner's chained motions check each state once.
   SegmentResult check_motion(const std::vector<double>& qa, const std::vector<double>& qb, bool verdict_only,
                              StateResult& sa, StateResult& sb, double* certified_until = nullptr) const;
 
@@ -113,10 +116,11 @@ class SegmentChecker {
   SegmentResult run_pairs(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
                           const StateResult& sb, double* certified_until = nullptr,
                           const Heightfield* terrain = nullptr, const std::vector<double>* bounds = nullptr) const;
-  // Where the end states' distances count (m): exact below it in
-  // check_motion's verdict-only end checks, and every pair at least
+  // Where the end states' distances count (m): every pair at least
   // min(its state's distance, this) at an end in both modes, so that both
-  // modes take the same steps. First limit plus half the largest pair motion:
+  // modes take the same steps (check_motion's verdict-only ends are exact
+  // below the largest it can be, first limit plus the margin, when it is
+  // finite; a bound beyond that lies beyond it). First limit plus half the largest pair motion:
   // two ends that far clear certify the whole segment at once. From the
   // pairs' bounds (MotionBound::pair_bounds).
   double end_limit(const std::vector<double>& bounds) const;

@@ -261,6 +261,9 @@ class Checker {
   // Names of the checked parts: Scene::parts, then "terrain" when present.
   const std::string& part_name(int index) const { return names_[static_cast<std::size_t>(index)]; }
   std::size_t part_count() const { return names_.size(); }
+  // A number of this checker's own (never 0, never another checker's, a
+  // copy's included): what per-thread caches of its answers are keyed by.
+  std::uint64_t instance_id() const { return id_.value; }
   std::size_t triangle_count() const;
   std::size_t memory_bytes() const;
   // Static triangles left out at build time: beyond the reach of every

@@ -934,6 +934,38 @@ TEST(Api, MovedObjectIsSeenAtItsNewPoseOnly) {
   EXPECT_NEAR(c.check(level).min_distance, slab, 1e-12);
 }
 
+// check_motion keeps the end states its thread checked last for the next
+// motion sharing an end; a world change makes a new world, whose motions
+// never take a state checked in the old one. State {10} is clear before
+// the cube moves onto the bar there and in contact after: the motion from
+// it must say so at t = 0, as the same motion checked cold on a new thread.
+TEST(Api, MotionAfterAnObjectMovedSeesTheMoveAtItsSharedEnd) {
+  TempDir t;
+  write_bar_scene(t.path, 1.0, "m");
+  plancheck::Checker c(plancheck::Scene::load((t.path / "scene.json").string()), 1);
+  c.add_object(box_object("Cube", {0.3, 0.3, 0.3}, {1, 0, 3}));
+  const std::vector<double> a{0.0}, b{10.0}, d{20.0};
+  for (bool verdict_only : {true, false}) {
+    SCOPED_TRACE(verdict_only ? "verdict-only" : "full");
+    c.move_object("Cube", {{1, 0, 3}, {}});
+    ASSERT_FALSE(c.check(b).collision);
+    c.check_motion(a, b, plancheck::MotionOptions{verdict_only});  // keeps a and b as the old world showed them
+    c.move_object("Cube", {{1, 0, 1}, {}});
+    ASSERT_TRUE(c.check(b).collision);
+    const plancheck::MotionResult warm = c.check_motion(b, d, plancheck::MotionOptions{verdict_only});
+    plancheck::MotionResult cold;
+    std::thread([&] { cold = c.check_motion(b, d, plancheck::MotionOptions{verdict_only}); }).join();
+    EXPECT_EQ(warm.verdict, plancheck::Verdict::kCollision);
+    EXPECT_EQ(warm.t, 0.0);
+    EXPECT_EQ(warm.safe_until, 0.0);
+    EXPECT_EQ(warm.part_a, cold.part_a);
+    EXPECT_EQ(warm.part_b, cold.part_b);
+    EXPECT_EQ(warm.verdict, cold.verdict);
+    EXPECT_EQ(warm.min_distance, cold.min_distance);
+    EXPECT_EQ(warm.steps, cold.steps);
+  }
+}
+
 // An object on the bar's node moves with it: its lowest corner above the
 // slab, rotated about the pivot (0, 0, 1) by the right-hand rotation about
 // +y, is the analytic distance (the bar's own is the other candidate).

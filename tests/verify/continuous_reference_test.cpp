@@ -28,6 +28,7 @@
 #include <filesystem>
 #include <random>
 #include <sstream>
+#include <thread>
 
 namespace plancheck {
 namespace {
@@ -183,6 +184,91 @@ TEST(ContinuousReference, GrazingAt1e9EitherSideOfTouchingAndOfTheMargin) {
       }
     }
   }
+}
+
+// check_motion keeps the end states its thread checked last and takes them
+// for a later motion with an end of the same bits, the same checker and the
+// same request (a planner's chained motions). A motion checked so equals
+// the same motion checked cold (on a new thread, nothing kept): the segment,
+// its certified_until and both end states, field by field. Chains forward,
+// backward, with the mode alternating (a verdict-only end is a bound, a full
+// one exact), and alternating between two checkers whose posts differ (a
+// state kept for one is no answer for the other), with every motion also
+// held against the reference (compare).
+struct Checked {
+  SegmentResult g;
+  StateResult sa, sb;
+  double until = -1.0;
+};
+Checked check_motion_on(const SegmentChecker& seg, const std::vector<double>& qa, const std::vector<double>& qb,
+                        bool verdict_only) {
+  Checked c;
+  c.g = seg.check_motion(qa, qb, verdict_only, c.sa, c.sb, &c.until);
+  return c;
+}
+void expect_same_state(const StateResult& x, const StateResult& y, const char* which) {
+  SCOPED_TRACE(which);
+  EXPECT_EQ(x.collision, y.collision);
+  EXPECT_EQ(x.contacts.size(), y.contacts.size());
+  EXPECT_EQ(x.min_distance, y.min_distance);
+  EXPECT_EQ(x.distance_is_bound, y.distance_is_bound);
+  EXPECT_EQ(x.distance_tolerance, y.distance_tolerance);
+  EXPECT_EQ(x.part_a, y.part_a);
+  EXPECT_EQ(x.part_b, y.part_b);
+  EXPECT_EQ(x.point_a, y.point_a);
+  EXPECT_EQ(x.point_b, y.point_b);
+}
+void expect_same_as_cold(const SegmentChecker& seg, const std::vector<double>& qa, const std::vector<double>& qb,
+                         bool verdict_only) {
+  const Checked warm = check_motion_on(seg, qa, qb, verdict_only);
+  Checked cold;
+  std::thread([&] { cold = check_motion_on(seg, qa, qb, verdict_only); }).join();
+  EXPECT_EQ(kind(warm.g), kind(cold.g));
+  EXPECT_EQ(warm.g.lower_bound, cold.g.lower_bound);
+  EXPECT_EQ(warm.g.min_sampled, cold.g.min_sampled);
+  EXPECT_EQ(warm.g.witness_t, cold.g.witness_t);
+  EXPECT_EQ(warm.g.part_a, cold.g.part_a);
+  EXPECT_EQ(warm.g.part_b, cold.g.part_b);
+  EXPECT_EQ(warm.g.steps, cold.g.steps);
+  EXPECT_EQ(warm.g.unresolved, cold.g.unresolved);
+  EXPECT_EQ(warm.until, cold.until);
+  expect_same_state(warm.sa, cold.sa, "from");
+  expect_same_state(warm.sb, cold.sb, "to");
+}
+
+TEST(ContinuousReference, MotionsSharingEndsEqualColdOnes) {
+  const std::vector<std::pair<Vec3, Vec3>> posts{{{-0.1, 1.2, 0}, {0.1, 1.4, 2}}, {{1.9, -0.3, 0.5}, {2.1, 0.3, 0.92}}};
+  BarScene s(posts), moved({{{-0.1, 1.12, 0}, {0.1, 1.32, 2}}, {{1.95, -0.3, 0.5}, {2.15, 0.3, 0.93}}});
+  std::mt19937_64 rng(43);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<std::vector<double>> walk{BarScene::state(0, 0, 1)};
+  const int n = testing::kSanitized ? 12 : 40;
+  for (int i = 0; i < n; ++i) {
+    const auto& q = walk.back();
+    // Every fourth step holds the slew: states equal in their first value.
+    walk.push_back(BarScene::state(q[0] + (i % 4 == 3 ? 0.0 : 60 * (2 * unit(rng) - 1)), std::clamp(q[1] + 0.2 * (2 * unit(rng) - 1), -0.6, 0.7),
+                                   std::clamp(q[2] + 0.2 * (2 * unit(rng) - 1), 0.5, 1.4)));
+  }
+  walk.push_back(walk.back());  // a motion that stays put: both ends one state
+  Tally t;
+  int bounds = 0;  // verdict-only ends that are bounds (what a full end must not take)
+  for (int order = 0; order < 4; ++order) {
+    for (std::size_t i = 0; i + 1 < walk.size(); ++i) {
+      SCOPED_TRACE("order " + std::to_string(order) + ", motion " + std::to_string(i));
+      const auto& qa = order == 1 ? walk[walk.size() - 1 - i] : walk[i];
+      const auto& qb = order == 1 ? walk[walk.size() - 2 - i] : walk[i + 1];
+      const bool verdict_only = order == 2 ? i % 2 == 0 : order != 3 || i % 4 < 2;
+      const SegmentChecker& seg = order == 3 && i % 2 == 1 ? *moved.seg : *s.seg;
+      expect_same_as_cold(seg, qa, qb, verdict_only);
+      StateResult sa, sb;
+      seg.check_motion(qa, qb, true, sa, sb);
+      bounds += sa.distance_is_bound;
+      compare(order == 3 && i % 2 == 1 ? *moved.checker : *s.checker, seg, kMargin, qa, qb, t);
+    }
+  }
+  EXPECT_GT(bounds, 0);
+  EXPECT_GT(t.flagged, 0);
+  EXPECT_LT(t.flagged, t.segments);
 }
 
 // Scenes of the default dataset without its scoop block (nothing digs) and
