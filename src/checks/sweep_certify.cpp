@@ -33,7 +33,7 @@ constexpr std::size_t kWitnesses = 16;
 constexpr std::size_t kWitnessBox = 2;
 // A part-scale witness that failed on a small box is asked again on its
 // halves only when its best candidate cleared this share of the moves.
-constexpr double kWitnessShare = 0.3;
+constexpr double kWitnessShare = 0.1;
 
 // clear_point's lower bounds: coarse searches within this factor
 // (pair_distance's rel_tolerance), so a configuration certified closer than
