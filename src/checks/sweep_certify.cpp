@@ -33,7 +33,7 @@ constexpr std::size_t kWitnesses = 16;
 constexpr std::size_t kWitnessBox = 2;
 // A part-scale witness that failed on a small box is asked again on its
 // halves only when its best candidate cleared this share of the moves.
-constexpr double kWitnessShare = 0.3;
+constexpr double kWitnessShare = 0.1;
 
 // clear_point's lower bounds: coarse searches within this factor
 // (pair_distance's rel_tolerance), so a configuration certified closer than
@@ -796,6 +796,7 @@ void SweepCertifier::check_block(std::size_t b, SweepBlockResult& out) const {
   std::vector<double> carried(seeds.size(), 0.0);
   std::vector<std::vector<double>> carried_at(seeds.size());
   out.pair_checks = 0;
+  out.point_tests = 0;
   out.witnessed = 0;
   out.contact_boxes = 0;
   for (std::size_t gi = 0; gi < groups_.size(); ++gi) {
@@ -840,6 +841,7 @@ void SweepCertifier::check_block(std::size_t b, SweepBlockResult& out) const {
       carried_at[k].clear();
     }
     certify(c, lo, hi, pending, kInf);
+    for (std::size_t j = 0; j < m; ++j) out.point_tests += a.exact[j] && !a.witnessed[j];
     out.pair_checks += a.pair_checks;
     out.contact_boxes += a.contact_boxes;
     {

@@ -62,6 +62,11 @@ struct SweepBlockResult {
   std::size_t pair_checks = 0;        // single-pair answers computed (statistics)
   std::size_t witnessed = 0;          // configurations in contact by a crossing witness, untested (statistics)
   std::size_t contact_boxes = 0;      // boxes certified in contact by a crossing witness (statistics)
+  // Exact answers actually computed: points of each pair group's
+  // projection of the block (a group that sees J1 and J2 answers a point
+  // once for all of the block's J3 and J4 values) with a contact test or
+  // an exact distance of their own, not a witness's (statistics).
+  std::size_t point_tests = 0;
 };
 
 class SweepCertifier {

@@ -14,6 +14,7 @@
 #include "src/base/files.h"
 #include "src/base/text.h"
 #include "src/cli/distribute.h"
+#include "src/cli/sweep_stage.h"
 #include "src/base/parallel.h"
 #include "src/base/progress.h"
 #include "src/checks/sweep_certify.h"
@@ -524,10 +525,11 @@ void read_block_blob(std::string_view blob, BlockPart& p) {
   in.done();
 }
 
-// Writes block b at its places in the outputs and merges its tally part
-// (sums; minima with the smallest grid index as the tie-break).
+// Writes block b at its places in the outputs (through the stage) and
+// merges its tally part (sums; minima with the smallest grid index as the
+// tie-break).
 void consume_block(const SweepBlocks& blocks, const Grid& grid, const SweepArgs& args, std::size_t b,
-                   const BlockPart& part, GridOut& outputs, Tally& tally) {
+                   const BlockPart& part, GridOut& outputs, BlockStage& stage, Tally& tally) {
   const std::vector<SweepAxis>& axes = grid.axes;
   std::vector<std::size_t> first, size, digit;
   blocks.block(b, first, size);
@@ -539,18 +541,19 @@ void consume_block(const SweepBlocks& blocks, const Grid& grid, const SweepArgs&
     throw std::runtime_error("block " + std::to_string(b) + " does not fit the grid");
   for (std::size_t k = 0; k < d; ++k)
     if (t.safe_by_value[k].size() != size[k]) throw std::runtime_error("block " + std::to_string(b) + " does not fit the grid");
-  // The block's rows along the last axis are contiguous in the files.
-  const std::size_t run = d > 0 ? size[d - 1] : 1;
-  digit.assign(d, 0);
-  for (std::size_t i = 0; i < n; i += run) {
-    std::size_t index = 0;
-    for (std::size_t k = 0; k < d; ++k) index = index * axes[k].values.size() + first[k] + digit[k];
-    outputs.verdict.write(index, part.codes.data() + i, run);
-    outputs.distance.write(index, part.dist.data() + i, run);
-    if (args.html) std::copy_n(part.codes.data() + i, run, tally.page_verdicts.data() + index);
-    for (std::size_t k = d - (d > 0 ? 1 : 0); k-- > 0;) {
-      if (++digit[k] < size[k]) break;
-      digit[k] = 0;
+  stage.put(b, part.codes.data(), part.dist.data(), part.codes.size(), outputs.verdict, outputs.distance);
+  if (args.html) {
+    // The block's rows along the last axis are contiguous in the grid.
+    const std::size_t run = d > 0 ? size[d - 1] : 1;
+    digit.assign(d, 0);
+    for (std::size_t i = 0; i < n; i += run) {
+      std::size_t index = 0;
+      for (std::size_t k = 0; k < d; ++k) index = index * axes[k].values.size() + first[k] + digit[k];
+      std::copy_n(part.codes.data() + i, run, tally.page_verdicts.data() + index);
+      for (std::size_t k = d - (d > 0 ? 1 : 0); k-- > 0;) {
+        if (++digit[k] < size[k]) break;
+        digit[k] = 0;
+      }
     }
   }
   for (const auto& [v, c] : t.counts) tally.counts[v] += c;
@@ -812,6 +815,8 @@ int sweep_run(const SweepArgs& args, std::ostream& out, std::ostream& err, const
 
   double consume_seconds = 0.0;
   BlockPart consumed;
+  std::optional<BlockStage> stage;
+  if (!each) stage.emplace(certifier->blocks());
   std::vector<Row> consumed_rows;
   const ConsumeItem consume = [&](std::size_t item, std::string_view blob) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -826,7 +831,7 @@ int sweep_run(const SweepArgs& args, std::ostream& out, std::ostream& err, const
         consume_rows(checker, scene, grid, args, item * kRows, consumed_rows, *outputs, tally);
       } else {
         read_block_blob(blob, consumed);
-        consume_block(certifier->blocks(), grid, args, item, consumed, *outputs, tally);
+        consume_block(certifier->blocks(), grid, args, item, consumed, *outputs, *stage, tally);
       }
     } catch (const std::runtime_error& e) {
       if (dynamic_cast<const InputError*>(&e)) throw;
