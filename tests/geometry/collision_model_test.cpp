@@ -307,9 +307,9 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
       const Affine tb = random_rigid(rng, Vec3(0.3, -0.2, 0.1), c.spread);
       ++poses;
       std::vector<Affine> moved = {tb};
+      DistanceResult d;
+      distance(a, ta, b, tb, DistanceRequest{}, d);
       if (i % 5 == 0) {
-        DistanceResult d;
-        distance(a, ta, b, tb, DistanceRequest{}, d);
         if (d.distance > 0.0) {
           const Vec3 u = (d.point_a - d.point_b) / d.distance;  // moves b towards a
           for (double f : {1.0 - 1e-9, 1.0 - 1e-12, 1.0 + 1e-12, 1.0 + 1e-9}) {
@@ -330,7 +330,11 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
             culled += rf.node_pairs_visited < rs.node_pairs_visited;
           }
         }
-        for (double near_below : {4.001e-9, 1e-3, 0.05}) {
+        // The rounding guards' scale, two margins, and just past the
+        // unmoved pose's own distance (a cull too keen on the widened
+        // boxes drops the pairs that answer it).
+        for (double near_below : {4.001e-9, 1e-3, 0.05, d.distance * (1.0 + 1e-9), d.distance * 1.2}) {
+          if (!(near_below > 0.0)) continue;
           SCOPED_TRACE("pose " + std::to_string(i) + "." + std::to_string(m) + " near_below " +
                        std::to_string(near_below));
           CollideResult rf, rs;
