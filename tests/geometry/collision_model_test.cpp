@@ -17,6 +17,7 @@
 #include <random>
 #include <set>
 #include <string>
+#include <vector>
 
 namespace plancheck {
 namespace {
@@ -242,19 +243,23 @@ TEST(CollisionModel, NearTouchingRigidPosesMatchBruteForce) {
 }
 
 // collide() as asked and with one cull switched off (`cull`, a flag of
-// CollideRequest), at `limit`: the same flag, the same listing in the same
-// order, the same contact bit for bit, never more node pairs. Gives both
-// results; the caller checks HasFatalFailure.
+// CollideRequest), at `limit` (and near_below, when > 0): the same flag,
+// the same listing in the same order, the same contact bit for bit, the
+// same near answer, never more node pairs. Gives both results; the caller
+// checks HasFatalFailure.
 void collide_with_and_without(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
-                              std::size_t limit, bool CollideRequest::*cull, CollideResult& rf, CollideResult& rs) {
+                              std::size_t limit, bool CollideRequest::*cull, CollideResult& rf, CollideResult& rs,
+                              double near_below = 0.0) {
   DistanceResult contact_fast, contact_slow;
   CollideRequest fast{limit}, slow{limit};
   fast.contact = &contact_fast;
   slow.contact = &contact_slow;
+  fast.near_below = slow.near_below = near_below;
   slow.*cull = false;
   collide(a, ta, b, tb, fast, rf);
   collide(a, ta, b, tb, slow, rs);
   ASSERT_EQ(rf.collide, rs.collide);
+  ASSERT_EQ(rf.near, rs.near);
   ASSERT_EQ(rf.triangle_pairs, rs.triangle_pairs);
   ASSERT_LE(rf.node_pairs_visited, rs.node_pairs_visited);
   if (rf.collide) {
@@ -279,7 +284,10 @@ bool distance_with_and_without(const CollisionModel& a, const Affine& ta, const 
 // The axis-aligned cull of the rigid-rigid descent (CollideRequest::box_cull)
 // against the descent without it: the same flag, the same listing in the
 // same order at every limit, the same contact bit for bit, never more node
-// pairs, on interpenetrating, grazing and separate rigid poses.
+// pairs, on interpenetrating, grazing and separate rigid poses; and, asked
+// whether the sets come within a distance (near_below: the rounding
+// guards' 4e-9 m of the verdict-only check, 1 mm, 5 cm), the same near
+// answer. Poses moved to within a relative 1e-9 and 1e-12 of touching.
 TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
   struct Case {
     Mesh a, b;
@@ -291,21 +299,49 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
       {testing::make_soup(11, 600, Vec3::Zero(), 1.0, 0.3), testing::make_soup(12, 500, Vec3::Zero(), 1.0, 0.3), 1.5},
   };
   std::mt19937_64 rng(77);
-  int colliding = 0, culled = 0, poses = 0;
+  int colliding = 0, culled = 0, poses = 0, near = 0, apart = 0, culled_near = 0;
   for (const Case& c : cases) {
     const CollisionModel a(c.a), b(c.b);
     for (int i = 0; i < testing::case_count(150, 30); ++i) {
       const Affine ta = random_rigid(rng, Vec3(0.3, -0.2, 0.1), 0.0);
       const Affine tb = random_rigid(rng, Vec3(0.3, -0.2, 0.1), c.spread);
       ++poses;
-      for (std::size_t limit : {std::size_t{0}, std::size_t{1}, std::size_t{16}, std::size_t{1} << 30}) {
-        SCOPED_TRACE("pose " + std::to_string(i) + " limit " + std::to_string(limit));
-        CollideResult rf, rs;
-        collide_with_and_without(a, ta, b, tb, limit, &CollideRequest::box_cull, rf, rs);
-        if (::testing::Test::HasFatalFailure()) return;
-        if (limit == 0) {
-          colliding += rf.collide;
-          culled += rf.node_pairs_visited < rs.node_pairs_visited;
+      std::vector<Affine> moved = {tb};
+      DistanceResult d;
+      distance(a, ta, b, tb, DistanceRequest{}, d);
+      if (i % 5 == 0) {
+        if (d.distance > 0.0) {
+          const Vec3 u = (d.point_a - d.point_b) / d.distance;  // moves b towards a
+          for (double f : {1.0 - 1e-9, 1.0 - 1e-12, 1.0 + 1e-12, 1.0 + 1e-9}) {
+            Affine m = tb;
+            m.translation() += f * d.distance * u;
+            moved.push_back(m);
+          }
+        }
+      }
+      for (std::size_t m = 0; m < moved.size(); ++m) {
+        for (std::size_t limit : {std::size_t{0}, std::size_t{1}, std::size_t{16}, std::size_t{1} << 30}) {
+          SCOPED_TRACE("pose " + std::to_string(i) + "." + std::to_string(m) + " limit " + std::to_string(limit));
+          CollideResult rf, rs;
+          collide_with_and_without(a, ta, b, moved[m], limit, &CollideRequest::box_cull, rf, rs);
+          if (::testing::Test::HasFatalFailure()) return;
+          if (limit == 0 && m == 0) {
+            colliding += rf.collide;
+            culled += rf.node_pairs_visited < rs.node_pairs_visited;
+          }
+        }
+        // The rounding guards' scale, two margins, and just past the
+        // unmoved pose's own distance (a cull too keen on the widened
+        // boxes drops the pairs that answer it).
+        for (double near_below : {4.001e-9, 1e-3, 0.05, d.distance * (1.0 + 1e-9), d.distance * 1.2}) {
+          if (!(near_below > 0.0)) continue;
+          SCOPED_TRACE("pose " + std::to_string(i) + "." + std::to_string(m) + " near_below " +
+                       std::to_string(near_below));
+          CollideResult rf, rs;
+          collide_with_and_without(a, ta, b, moved[m], 0, &CollideRequest::box_cull, rf, rs, near_below);
+          if (::testing::Test::HasFatalFailure()) return;
+          if (!rf.collide) ++(rf.near ? near : apart);
+          culled_near += rf.node_pairs_visited < rs.node_pairs_visited;
         }
       }
     }
@@ -314,6 +350,9 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
   EXPECT_GT(colliding, poses / 10);
   EXPECT_LT(colliding, poses);
   EXPECT_GT(culled, 0);
+  EXPECT_GT(near, 0);
+  EXPECT_GT(apart, 0);
+  EXPECT_GT(culled_near, 0);
 }
 
 // A closed box of 12 triangles (one leaf), half extents h, centred at c.
