@@ -126,7 +126,9 @@ class MotionValidator : public ::ompl::base::MotionValidator {
  private:
   MotionResult check(const ::ompl::base::State* s1, const ::ompl::base::State* s2) const {
     const std::size_t n = checker_->parameter_count();
-    MotionResult r = checker_->check_motion(detail::values(s1, n), detail::values(s2, n), MotionOptions{true});
+    // Verdict-only, stopping at the first violation: whether the motion is
+    // safe and safe_until are check_motion's; what a violation is is not asked.
+    MotionResult r = checker_->check_motion(detail::values(s1, n), detail::values(s2, n), MotionOptions{true, true});
     (r.verdict == Verdict::kSafe ? valid_ : invalid_)++;
     return r;
   }
