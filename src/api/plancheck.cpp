@@ -192,11 +192,13 @@ void motion_one(const detail::Snapshot& d, const std::vector<double>& from, cons
                 MotionResult& out, const MotionOptions& options) {
   plancheck_core::StateResult sa, sb;
   double until = 0.0;
-  const plancheck_core::SegmentResult g = d.segments().check_motion(from, to, options.verdict_only, sa, sb, &until);
+  const plancheck_core::SegmentResult g = d.segments().check_motion(from, to, options.verdict_only, sa, sb, &until, options.first_violation);
   const plancheck_core::Scene& scene = d.scene->scene;
   const double unit = scene.length_scale;
   out = MotionResult{};
-  out.collision = g.collision;
+  // An end in contact is a contact of the motion (without first_violation
+  // the contact pass has found it already).
+  out.collision = g.collision || sa.collision || sb.collision;
   out.min_distance = g.lower_bound / unit;
   out.certified = !g.unresolved;
   out.steps = g.steps;
@@ -212,6 +214,13 @@ void motion_one(const detail::Snapshot& d, const std::vector<double>& from, cons
       a = sa.part_a;
       b = sa.part_b;
     }
+  } else if (options.first_violation && g.witness_t == 1.0 && sb.collision) {
+    // The margin pass stopped at state 1, which touches: the contact pass
+    // would have stopped there too (ends first).
+    out.verdict = Verdict::kCollision;
+    out.t = 1.0;
+    a = sb.contacts[0].part_a;
+    b = sb.contacts[0].part_b;
   } else if (g.collision || g.clearance) {
     out.verdict = g.collision ? Verdict::kCollision : Verdict::kClearance;
     if (g.witness_t >= 0.0) out.t = g.witness_t;
@@ -224,7 +233,7 @@ void motion_one(const detail::Snapshot& d, const std::vector<double>& from, cons
   if (out.verdict == Verdict::kSafe)
     out.safe_until = 1.0;
   else if (v0 == Verdict::kSafe && (g.collision || g.clearance))
-    out.safe_until = until;
+    out.safe_until = until;  // (first_violation: the first pass's, the same)
   if (a >= 0) {
     out.part_a_index = a;
     out.part_b_index = b;

@@ -56,15 +56,18 @@ Sample to_sample(double t, const StateResult& s) {
 // one), then, where it found a witness (or without a margin), against
 // contact; certify(target, limit, contact, lower) returns the pass's first
 // witness (t, a, b) or nothing, and sets gave_up when the budget ran out.
+// first_violation: a witness against the margin ends it (no contact pass).
 template <class Certify>
 void two_passes(double margin, const ContinuousOptions& options, const bool& gave_up, SegmentResult& out,
-                Certify&& certify) {
+                Certify&& certify, bool first_violation = false) {
   double lower = std::numeric_limits<double>::infinity();
   auto witness = decltype(certify(0.0, 0.0, false, lower)){};
   bool check_contact = true;
+  bool cut_short = false;  // stopped at a margin witness (first_violation)
   if (margin > 0.0) {
     witness = certify(margin, margin + options.tolerance, false, lower);
     check_contact = witness.has_value();
+    if (check_contact && first_violation) check_contact = false, cut_short = true;
   }
   bool collision = false;
   if (check_contact && !gave_up) {
@@ -90,7 +93,9 @@ void two_passes(double margin, const ContinuousOptions& options, const bool& gav
     out.part_a = out.part_b = -1;
     out.witness_t = -1.0;
   }
-  out.lower_bound = lower;
+  // Cut short, the pass's bound covers only what it certified before its
+  // witness: no bound over the whole segment was made.
+  out.lower_bound = cut_short ? std::numeric_limits<double>::quiet_NaN() : lower;
   out.unresolved = gave_up;
 }
 
@@ -167,7 +172,7 @@ double SegmentChecker::end_limit(const std::vector<double>& bounds) const {
 
 SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const std::vector<double>& qb,
                                            bool verdict_only, StateResult& sa, StateResult& sb,
-                                           double* certified_until) const {
+                                           double* certified_until, bool first_violation) const {
   // The pairs' bounds once: for the verdict-only ends' limit and the march.
   std::vector<double> bounds;
   bound_.pair_bounds(plan_, qa, qb, bounds);
@@ -227,7 +232,7 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
   };
   const int slot_a = end_state(qa, sa, -1);
   end_state(qb, sb, slot_a);
-  return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds);
+  return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds, first_violation);
 }
 
 SegmentResult SegmentChecker::check_motion_reference(const std::vector<double>& qa, const std::vector<double>& qb,
@@ -417,7 +422,7 @@ constexpr double kProbe = 4.0;
 SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std::vector<double>& qb,
                                         const StateResult& sa, const StateResult& sb,
                                         double* certified_until, const Heightfield* terrain,
-                                        const std::vector<double>* given_bounds) const {
+                                        const std::vector<double>* given_bounds, bool first_violation) const {
   SegmentResult out;
   double until = 0.0;
   out.checked = true;
@@ -642,7 +647,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     if (first_pass) until = w || gave_up ? reached : 1.0;
     first_pass = false;
     return w;
-  });
+  }, first_violation);
   if (certified_until) *certified_until = until;
   return out;
 }

@@ -86,8 +86,12 @@ class SegmentChecker {
   // The end states a thread checked last (eight) are kept (per thread) and
   // taken for a later motion with an end of the same bits on this checker
   // in the same mode: a planner's chained motions check each state once.
+  // first_violation: stop at the first witness against the margin (no
+  // contact pass after it): the same safe or not, the same certified_until;
+  // a witness found so is a clearance witness and lower_bound is NaN.
   SegmentResult check_motion(const std::vector<double>& qa, const std::vector<double>& qb, bool verdict_only,
-                             StateResult& sa, StateResult& sb, double* certified_until = nullptr) const;
+                             StateResult& sa, StateResult& sb, double* certified_until = nullptr,
+                             bool first_violation = false) const;
 
   // The previous algorithm, kept as the slow reference of the tests: one
   // bound for all pairs (pair_bound) against the least distance of any pair,
@@ -115,7 +119,8 @@ class SegmentChecker {
   // over plan_) when the caller has them; nullptr: computed here.
   SegmentResult run_pairs(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
                           const StateResult& sb, double* certified_until = nullptr,
-                          const Heightfield* terrain = nullptr, const std::vector<double>* bounds = nullptr) const;
+                          const Heightfield* terrain = nullptr, const std::vector<double>* bounds = nullptr,
+                          bool first_violation = false) const;
   // Where the end states' distances count (m): every pair at least
   // min(its state's distance, this) at an end in both modes, so that both
   // modes take the same steps (check_motion's verdict-only ends are exact

@@ -89,7 +89,8 @@ class PyScene {
     return states;
   }
 
-  PyMotionResult check_motion(const py::handle& starts_in, const py::handle& ends_in, bool verdict_only) const {
+  PyMotionResult check_motion(const py::handle& starts_in, const py::handle& ends_in, bool verdict_only,
+                              bool first_violation) const {
     const States starts = as_states(starts_in, "starts");
     const States ends = as_states(ends_in, "ends");
     if (starts.shape(0) != ends.shape(0))
@@ -100,7 +101,7 @@ class PyScene {
     {
       py::gil_scoped_release release;  // both arrays are held by this frame
       checker_->check_motion_batch(starts.data(), ends.data(), count, results.data(),
-                                   plancheck::MotionOptions{verdict_only});
+                                   plancheck::MotionOptions{verdict_only, first_violation});
     }
     PyMotionResult r;
     const auto c = static_cast<py::ssize_t>(count);
@@ -387,9 +388,13 @@ PYBIND11_MODULE(_plancheck, m) {
            "min_distance is a certified lower bound, min_distance_is_bound True, no parts or points).\n"
            "A 1-D array of len(parameter_names) values is one state.")
       .def("check_motion", &PyScene::check_motion, py::arg("starts"), py::arg("ends"), py::arg("verdict_only") = false,
+           py::arg("first_violation") = false,
            "Checks the straight-line motion (in plan units, values as written) from each row of `starts`\n"
            "to the same row of `ends` (arrays as check's), certified as verify --continuous: never safe\n"
            "where any configuration on it comes below the margin. verdict_only=True: the same verdicts\n"
            "and witnesses, exact distances only where they decide (what a planner needs); min_distance\n"
-           "is then a looser certified bound.");
+           "is then a looser certified bound. first_violation=True: only whether each motion is safe\n"
+           "(a motion validator's question): stops at the first witness below the margin without\n"
+           "looking on for a contact; the same safe or not, but an unsafe motion's verdict, collision\n"
+           "and t are that witness's (clearance) and its min_distance is NaN.");
 }

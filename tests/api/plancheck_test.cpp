@@ -590,8 +590,10 @@ std::array<std::size_t, 4> expect_motions_equal_verify(const fs::path& scene_pat
     from.push_back(a);
     to.push_back(b);
   }
+  std::vector<plancheck::MotionResult> quick;
   for (const bool verdict_only : {false, true}) {
     const auto batch = checker.check_motion_batch(from, to, plancheck::MotionOptions{verdict_only});
+    if (verdict_only) quick = batch;
     if (batch.size() != motions.size()) {
       ADD_FAILURE() << "batch size " << batch.size();
       return kinds;
@@ -606,6 +608,49 @@ std::array<std::size_t, 4> expect_motions_equal_verify(const fs::path& scene_pat
         EXPECT_EQ(one.verdict, batch[i].verdict) << where;
         EXPECT_EQ(one.min_distance, batch[i].min_distance) << where;
         EXPECT_EQ(one.steps, batch[i].steps) << where;
+      }
+    }
+  }
+  // first_violation: safe exactly where verify says so, certified as far;
+  // safe motions and an end's own violation as verdict-only; a motion found
+  // below the margin is that witness's clearance, with no bound.
+  const auto first = checker.check_motion_batch(from, to, plancheck::MotionOptions{true, true});
+  for (std::size_t i = 0; i < motions.size() && first.size() == motions.size() && quick.size() == motions.size(); ++i) {
+    const std::string where = scene_path.filename().string() + " motion " + std::to_string(i) + " (first violation)";
+    const plancheck::MotionResult& f = first[i];
+    const plancheck::MotionResult& q = quick[i];
+    EXPECT_EQ(f.verdict == plancheck::Verdict::kSafe, v.plans[i]["verdict"].get<std::string>() == "safe") << where;
+    EXPECT_EQ(f.safe_until, q.safe_until) << where;
+    EXPECT_LE(f.steps, q.steps) << where;
+    const plancheck::StateResult s0 = checker.check(from[i]), s1 = checker.check(to[i]);
+    if (q.verdict == plancheck::Verdict::kSafe || q.verdict == plancheck::Verdict::kLimits ||
+        s0.verdict != plancheck::Verdict::kSafe || !q.certified || scene.safety_margin() == 0.0) {
+      EXPECT_EQ(f.verdict, q.verdict) << where;
+      if (q.verdict == plancheck::Verdict::kSafe || scene.safety_margin() == 0.0) {
+        EXPECT_EQ(f.collision, q.collision) << where;
+      } else {
+        EXPECT_EQ(f.collision, s0.collision || s1.collision) << where;  // the contact pass was not run
+      }
+      EXPECT_EQ(num(f.t), num(q.t)) << where;
+      EXPECT_EQ(f.part_a, q.part_a) << where;
+      EXPECT_EQ(f.part_b, q.part_b) << where;
+      if (q.verdict == plancheck::Verdict::kSafe || !q.certified) {
+        EXPECT_EQ(f.certified, q.certified) << where;
+        EXPECT_EQ(f.min_distance, q.min_distance) << where;
+        EXPECT_EQ(f.steps, q.steps) << where;
+      }
+    } else {
+      // The margin pass's witness: state 1 touching, else a clearance.
+      EXPECT_GE(f.t, 0.0) << where;
+      EXPECT_LE(f.t, 1.0) << where;
+      EXPECT_EQ(f.verdict, f.t == 1.0 && s1.collision ? plancheck::Verdict::kCollision : plancheck::Verdict::kClearance)
+          << where;
+      EXPECT_EQ(f.collision, s1.collision) << where;  // (s0 is safe)
+      EXPECT_TRUE(std::isnan(f.min_distance)) << where;
+      if (q.verdict == plancheck::Verdict::kClearance) {
+        EXPECT_EQ(f.t, q.t) << where;
+        EXPECT_EQ(f.part_a, q.part_a) << where;
+        EXPECT_EQ(f.part_b, q.part_b) << where;
       }
     }
   }

@@ -366,6 +366,8 @@ class ModuleTest(unittest.TestCase):
         scene = plancheck.Scene(scene_file, threads=2)
         full = scene.check_motion(np.array(starts), np.array(ends))
         quick = scene.check_motion(np.array(starts), np.array(ends), verdict_only=True)
+        valid = scene.check_motion(np.array(starts), np.array(ends), verdict_only=True, first_violation=True)
+        ends_checked = scene.check(np.array(ends))
         self.assertEqual(full.t.dtype, np.float64)
         for i, plan in enumerate(report["plans"]):
             where = "motion %r -> %r" % (starts[i][0], ends[i][0])
@@ -383,6 +385,19 @@ class ModuleTest(unittest.TestCase):
                     self.assertEqual(r.t[i], float(first["state"]), where)
             self.assertEqual(num(full.min_distance[i]), row["segment_min_distance"], where)
             self.assertLessEqual(quick.min_distance[i], full.min_distance[i], where)
+            # first_violation: safe exactly where verify says so; a motion
+            # found below the margin is a clearance there (no contact pass).
+            self.assertEqual(valid.verdict[i] == 0, plan["verdict"] == "safe", where)
+            if plan["verdict"] == "safe":
+                self.assertEqual(valid.min_distance[i], quick.min_distance[i], where)
+            elif plan["first_violation"].get("between"):
+                # The margin pass's witness: state 1 touching, else a clearance.
+                touch = valid.t[i] == 1.0 and bool(ends_checked.collision[i])
+                self.assertEqual(VERDICTS[int(valid.verdict[i])], "collision" if touch else "clearance", where)
+                self.assertEqual(bool(valid.collision[i]), bool(ends_checked.collision[i]), where)
+                self.assertTrue(math.isnan(valid.min_distance[i]), where)
+                if row["segment_collision"] == "0":
+                    self.assertEqual(valid.t[i], quick.t[i], where)
         self.assertEqual(set(full.verdict.tolist()), {0, 1, 2, 3})
 
 

@@ -74,6 +74,40 @@ void compare(const Checker& checker, const SegmentChecker& seg, double margin, c
     EXPECT_EQ(fast_vo.part_a, fast.part_a);
     EXPECT_EQ(fast_vo.part_b, fast.part_b);
   }
+  // first_violation (a motion validator's question): safe exactly where
+  // verdict-only is, certified as far; safe, the same answer; found below
+  // the margin, verdict-only's first pass (its witness and pair when no
+  // contact followed) and no bound (NaN); never more steps.
+  {
+    StateResult fa, fb;
+    double first_until = -1.0;
+    const SegmentResult first = seg.check_motion(qa, qb, true, fa, fb, &first_until, true);
+    EXPECT_EQ(kind(first) == 0, kind(fast_vo) == 0);
+    EXPECT_EQ(first_until, until);
+    EXPECT_LE(first.steps, fast_vo.steps);
+    if (kind(fast_vo) == 0 || margin == 0.0) {
+      EXPECT_EQ(kind(first), kind(fast_vo));
+      EXPECT_EQ(first.witness_t, fast_vo.witness_t);
+      EXPECT_EQ(first.lower_bound, fast_vo.lower_bound);
+      EXPECT_EQ(first.steps, fast_vo.steps);
+    } else {
+      EXPECT_EQ(kind(first), 1);
+      EXPECT_TRUE(std::isnan(first.lower_bound));
+      if (kind(fast_vo) == 1) {
+        EXPECT_EQ(first.witness_t, fast_vo.witness_t);
+        EXPECT_EQ(first.part_a, fast_vo.part_a);
+        EXPECT_EQ(first.part_b, fast_vo.part_b);
+      }
+      if (first.witness_t >= 0.0) {
+        // Real: an exact check at its configuration comes below the margin.
+        std::vector<double> q;
+        state_between(qa, qb, first.witness_t, q);
+        StateResult w;
+        checker.check_state(first.witness_t == 0.0 ? qa : (first.witness_t == 1.0 ? qb : q), w, row_request());
+        EXPECT_LT(w.collision ? 0.0 : w.min_distance, margin + o.tolerance) << "at t = " << first.witness_t;
+      }
+    }
+  }
   // Never above what the reference saw at any configuration.
   EXPECT_LE(fast.lower_bound, ref.min_sampled);
   EXPECT_LE(fast_vo.lower_bound, ref.min_sampled);

@@ -17,8 +17,8 @@
 // a path's states written as CSV rows under the parameter names are a plan
 // that `plancheck verify --continuous` passes. A state is valid when its
 // verdict is safe (no contact, clearance at least the safety margin, within
-// limits); a motion is valid when Checker::check_motion (verdict-only) says
-// safe: certified for every configuration on the straight line in plan
+// limits); a motion is valid when Checker::check_motion (verdict-only,
+// first_violation) says safe: certified for every configuration on the straight line in plan
 // units, not at sampled points.
 #pragma once
 
@@ -96,8 +96,9 @@ class StateValidityChecker : public ::ompl::base::StateValidityChecker {
   std::shared_ptr<const Checker> checker_;
 };
 
-// Certified motion validation: Checker::check_motion in verdict-only mode
-// (both ends included). With lastValid, an invalid motion reports how far
+// Certified motion validation: Checker::check_motion in verdict-only mode,
+// stopping at the first violation (MotionOptions::first_violation; both
+// ends included). With lastValid, an invalid motion reports how far
 // from s1 it was certified safe (MotionResult::safe_until: the fraction,
 // and the state there), 0 and s1 when nothing beyond s1 was proven.
 class MotionValidator : public ::ompl::base::MotionValidator {
@@ -126,7 +127,9 @@ class MotionValidator : public ::ompl::base::MotionValidator {
  private:
   MotionResult check(const ::ompl::base::State* s1, const ::ompl::base::State* s2) const {
     const std::size_t n = checker_->parameter_count();
-    MotionResult r = checker_->check_motion(detail::values(s1, n), detail::values(s2, n), MotionOptions{true});
+    // Verdict-only, stopping at the first violation: whether the motion is
+    // safe and safe_until are check_motion's; what a violation is is not asked.
+    MotionResult r = checker_->check_motion(detail::values(s1, n), detail::values(s2, n), MotionOptions{true, true});
     (r.verdict == Verdict::kSafe ? valid_ : invalid_)++;
     return r;
   }

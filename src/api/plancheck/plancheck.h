@@ -105,6 +105,17 @@ struct MotionOptions {
   // (what a planner's motion validator needs): min_distance is then a
   // looser certified bound on safe segments. Same verdict, t and pair.
   bool verdict_only = false;
+  // true (with verdict_only): only whether the motion is safe, what a
+  // planner's motion validator needs. The check stops at the first witness
+  // below the margin and does not look on for a contact. verdict is kSafe
+  // exactly when it would be without this, and safe_until is the same. An
+  // unsafe motion is described by that witness: its t and pair, verdict
+  // kClearance even where the motion goes on into a contact (kCollision
+  // where state 0 or the witness, state 1, touches), collision true only
+  // where an end touches, min_distance NaN (no bound over the whole motion
+  // was made). Without a margin there is one pass: the same answer as
+  // without it. Safe motions: the same answer as without it.
+  bool first_violation = false;
 };
 
 // What the straight-line motion between two states shows (in plan units,
