@@ -199,7 +199,8 @@ void motion_one(const detail::Snapshot& d, const std::vector<double>& from, cons
   // An end in contact is a contact of the motion (without first_violation
   // the contact pass has found it already).
   out.collision = g.collision || sa.collision || sb.collision;
-  out.min_distance = g.lower_bound / unit;
+  // 0 wherever a contact is known (first_violation's NaN bound included).
+  out.min_distance = out.collision ? 0.0 : g.lower_bound / unit;
   out.certified = !g.unresolved;
   out.steps = g.steps;
   int a = -1, b = -1;

@@ -396,5 +396,5 @@ PYBIND11_MODULE(_plancheck, m) {
            "is then a looser certified bound. first_violation=True: only whether each motion is safe\n"
            "(a motion validator's question): stops at the first witness below the margin without\n"
            "looking on for a contact; the same safe or not, but an unsafe motion's verdict, collision\n"
-           "and t are that witness's (clearance) and its min_distance is NaN.");
+           "and t are that witness's (clearance) and its min_distance is NaN (0 where an end touches).");
 }

@@ -646,7 +646,11 @@ std::array<std::size_t, 4> expect_motions_equal_verify(const fs::path& scene_pat
       EXPECT_EQ(f.verdict, f.t == 1.0 && s1.collision ? plancheck::Verdict::kCollision : plancheck::Verdict::kClearance)
           << where;
       EXPECT_EQ(f.collision, s1.collision) << where;  // (s0 is safe)
-      EXPECT_TRUE(std::isnan(f.min_distance)) << where;
+      if (s1.collision) {
+        EXPECT_EQ(f.min_distance, 0.0) << where;
+      } else {
+        EXPECT_TRUE(std::isnan(f.min_distance)) << where;
+      }
       if (q.verdict == plancheck::Verdict::kClearance) {
         EXPECT_EQ(f.t, q.t) << where;
         EXPECT_EQ(f.part_a, q.part_a) << where;

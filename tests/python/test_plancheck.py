@@ -395,7 +395,10 @@ class ModuleTest(unittest.TestCase):
                 touch = valid.t[i] == 1.0 and bool(ends_checked.collision[i])
                 self.assertEqual(VERDICTS[int(valid.verdict[i])], "collision" if touch else "clearance", where)
                 self.assertEqual(bool(valid.collision[i]), bool(ends_checked.collision[i]), where)
-                self.assertTrue(math.isnan(valid.min_distance[i]), where)
+                if ends_checked.collision[i]:
+                    self.assertEqual(valid.min_distance[i], 0.0, where)
+                else:
+                    self.assertTrue(math.isnan(valid.min_distance[i]), where)
                 if row["segment_collision"] == "0":
                     self.assertEqual(valid.t[i], quick.t[i], where)
         self.assertEqual(set(full.verdict.tolist()), {0, 1, 2, 3})

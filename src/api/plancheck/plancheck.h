@@ -113,8 +113,8 @@ struct MotionOptions {
   // kClearance even where the motion goes on into a contact (kCollision
   // where state 0 or the witness, state 1, touches), collision true only
   // where an end touches, min_distance NaN (no bound over the whole motion
-  // was made). Without a margin there is one pass: the same answer as
-  // without it. Safe motions: the same answer as without it.
+  // was made; 0 where an end touches). Without a margin there is one pass:
+  // the same answer as without it. Safe motions: the same answer too.
   bool first_violation = false;
 };
 
