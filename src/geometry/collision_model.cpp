@@ -242,28 +242,24 @@ struct Setup {
                                std::abs(cb[2]));
   }
 
-  // True when the nodes' axis-aligned boxes are proven apart in b's own
-  // frame: a's box mapped there (Arvo's enclosing box) against b's own,
-  // widened by the rounding margins as the box-only culling uses them
-  // (needs the reverse frame, as the oriented boxes do). With reach2 > 0:
-  // proven at least sqrt(reach2) apart instead, by the bound the distance
-  // descent prunes with (DistanceQuery::lower2). The same test in the
-  // working frame (b's box mapped into a's) came first until 2026-12-02:
-  // on random poses it proved little the reverse test and the oriented
-  // boxes did not, and it was half the cost (callgrind, 2,000 random
-  // states: two meshes verdict-only 71.1 -> 65.6 M instructions, collide
-  // only 61.9 -> 57.3 M; the default arm 181.7 -> 179.0 M and 172.3 ->
-  // 163.0 M; both tests or none were dearer).
-  // A pose whose rounding margins are not finite (a transform past the
-  // range of doubles) keeps the test in both frames: its working-frame boxes
-  // come out NaN, which that test takes as apart, so no such pair reaches
-  // the exact predicates (whose GMP fallback traps on an infinity; a state
-  // check refuses such poses before, tests ask them of collide() directly).
-  // With reach2 > 0 both frames are tested still: on the states along planned
-  // paths (the OMPL bench's discrete validator: states near the lander,
-  // checked against the 5 cm margin) the b-frame test alone made those
-  // checks 10-14% slower (default arm 40 -> 44 us a segment, URDF arm 29 ->
-  // 33 us; both frames: 39 and 30 us), 2026-12-02.
+  // True when the nodes' axis-aligned boxes are proven apart, widened by
+  // the rounding margins as the box-only culling uses them. Collide alone
+  // (reach2 = 0) tests them in b's own frame only: a's box mapped there
+  // (Arvo's enclosing box) against b's own. With reach2 > 0 (proven at
+  // least sqrt(reach2) apart, by the bound the distance descent prunes
+  // with, DistanceQuery::lower2), and for a pose whose rounding margins are
+  // not finite, b's box mapped into the working frame is tested first too.
+  // Why (2026-12-02): on random poses the working-frame test proved little
+  // the reverse test and the oriented boxes did not, at half the cost
+  // (callgrind, 2,000 random states, collide only: two meshes 61.9 -> 57.3
+  // M instructions, the default arm 172.3 -> 163.0 M); but dropped for the
+  // reach questions too it made the verdict-only checks of states along
+  // planned paths (the OMPL bench's discrete validator, 5 cm margin) 10-14%
+  // slower (default arm 40 -> 44 us a segment, URDF arm 29 -> 33 us). A
+  // pose past the range of doubles keeps both: its working-frame boxes come
+  // out NaN, which that test takes as apart, so no such pair reaches the
+  // exact predicates (whose GMP fallback traps on an infinity; a state
+  // check refuses such poses, tests ask them of collide() directly).
   bool aabb_disjoint(std::uint32_t ia, std::uint32_t ib, double reach2 = 0.0) const {
     if (!finite_margins || reach2 > 0.0) {
       double alo[3], ahi[3], blo[3], bhi[3];

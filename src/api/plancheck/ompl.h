@@ -18,8 +18,8 @@
 // that `plancheck verify --continuous` passes. A state is valid when its
 // verdict is safe (no contact, clearance at least the safety margin, within
 // limits); a motion is valid when Checker::check_motion (verdict-only,
-// first_violation) says safe: certified for every configuration on the straight line in plan
-// units, not at sampled points.
+// first_violation) says safe: certified for every configuration on the
+// straight line in plan units, not at sampled points.
 #pragma once
 
 #include <plancheck/plancheck.h>
