@@ -44,6 +44,8 @@ using ContinuousOptions = ::plancheck::ContinuousOptions;
 #include "src/api/plancheck/plancheck.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <exception>
 #include <map>
 #include <mutex>
@@ -185,11 +187,67 @@ void check_one(const detail::Snapshot& d, const std::vector<double>& params, Sta
   out.verdict = public_verdict(plancheck_core::state_verdict(st, scene.safety_margin));
 }
 
+void motion_checked(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
+                    MotionResult& out, const MotionOptions& options);
+
+// A planner asks for the same motion again and again (simplifying a path
+// asks for motions between its few states many times over, and checks the
+// whole path again at the end): the answers this thread gave last (kKept,
+// the least recently used replaced) are kept, keyed by the world version
+// (the core checker's own number: every change makes a new one), both
+// states' bits and the options, and taken instead of checking again.
+// motion_checked is a function of exactly these, so a kept answer is bit
+// for bit the one a check gives.
+void motion_one(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
+                MotionResult& out, const MotionOptions& options) {
+  struct Kept {
+    std::uint64_t checker = 0;  // 0: empty
+    std::uint64_t used = 0;
+    std::uint64_t hash = 0;
+    bool verdict_only = false, first_violation = false;
+    std::vector<double> from, to;
+    MotionResult result;
+  };
+  constexpr int kKept = 32;
+  thread_local Kept kept[kKept];
+  thread_local std::uint64_t clock = 0;
+  const std::uint64_t id = d.checker->instance_id();
+  std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over both states' bytes
+  for (const std::vector<double>* v : {&from, &to}) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(v->data());
+    for (std::size_t i = 0; i < v->size() * sizeof(double); ++i) hash = (hash ^ bytes[i]) * 1099511628211ull;
+  }
+  auto same = [](const std::vector<double>& x, const std::vector<double>& y) {
+    return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0);
+  };
+  int slot = 0;
+  for (int i = 0; i < kKept; ++i) {
+    Kept& k = kept[i];
+    if (k.checker == id && k.hash == hash && k.verdict_only == options.verdict_only &&
+        k.first_violation == options.first_violation && same(k.from, from) && same(k.to, to)) {
+      k.used = ++clock;
+      out = k.result;
+      return;
+    }
+    if (k.used < kept[slot].used) slot = i;
+  }
+  motion_checked(d, from, to, out, options);
+  Kept& k = kept[slot];
+  k.checker = id;
+  k.used = ++clock;
+  k.hash = hash;
+  k.verdict_only = options.verdict_only;
+  k.first_violation = options.first_violation;
+  k.from = from;
+  k.to = to;
+  k.result = out;
+}
+
 // One motion, as verify --continuous ranks a two-state plan of it
 // (src/checks/plan_check.cpp, verify_segments): state 0's own violation,
 // then the segment's, then state 1's.
-void motion_one(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
-                MotionResult& out, const MotionOptions& options) {
+void motion_checked(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
+                    MotionResult& out, const MotionOptions& options) {
   plancheck_core::StateResult sa, sb;
   double until = 0.0;
   const plancheck_core::SegmentResult g = d.segments().check_motion(from, to, options.verdict_only, sa, sb, &until, options.first_violation);

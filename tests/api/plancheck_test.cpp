@@ -19,7 +19,9 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -1012,6 +1014,59 @@ TEST(Api, MotionAfterAnObjectMovedSeesTheMoveAtItsSharedEnd) {
     EXPECT_EQ(warm.verdict, cold.verdict);
     EXPECT_EQ(warm.min_distance, cold.min_distance);
     EXPECT_EQ(warm.steps, cold.steps);
+  }
+}
+
+// check_motion keeps the answers its thread gave last: the same motion
+// asked again (same states, same options, same world) is the same answer,
+// bit for bit, as one checked cold on a new thread, also after other
+// motions and options in between and after more motions than are kept;
+// the same motion after the world changed is checked in the new world.
+TEST(Api, MotionAskedAgainIsTheSameAnswerAndSeesWorldChanges) {
+  TempDir t;
+  write_bar_scene(t.path, 1.0, "m");
+  plancheck::Checker c(plancheck::Scene::load((t.path / "scene.json").string()), 1);
+  c.add_object(box_object("Cube", {0.3, 0.3, 0.3}, {1, 0, 3.5}));
+  auto bits = [](double v) {
+    std::uint64_t u;
+    std::memcpy(&u, &v, sizeof u);
+    return u;
+  };
+  auto expect_same = [&](const plancheck::MotionResult& x, const plancheck::MotionResult& y, const std::string& where) {
+    EXPECT_EQ(x.verdict, y.verdict) << where;
+    EXPECT_EQ(x.collision, y.collision) << where;
+    EXPECT_EQ(bits(x.min_distance), bits(y.min_distance)) << where;
+    EXPECT_EQ(bits(x.t), bits(y.t)) << where;
+    EXPECT_EQ(x.part_a, y.part_a) << where;
+    EXPECT_EQ(x.part_b, y.part_b) << where;
+    EXPECT_EQ(x.certified, y.certified) << where;
+    EXPECT_EQ(x.steps, y.steps) << where;
+    EXPECT_EQ(x.safe_until, y.safe_until) << where;
+  };
+  auto cold = [&](const std::vector<double>& a, const std::vector<double>& b, const plancheck::MotionOptions& o) {
+    plancheck::MotionResult r;
+    std::thread([&] { r = c.check_motion(a, b, o); }).join();
+    return r;
+  };
+  const std::vector<double> a{-80.0}, b{20.0};
+  for (const plancheck::MotionOptions o : {plancheck::MotionOptions{false}, plancheck::MotionOptions{true},
+                                           plancheck::MotionOptions{true, true}}) {
+    const std::string where = std::string(o.verdict_only ? "verdict-only" : "full") + (o.first_violation ? ", first" : "");
+    c.move_object("Cube", {{1, 0, 3.5}, {}});
+    const plancheck::MotionResult clear = c.check_motion(a, b, o);
+    EXPECT_EQ(clear.verdict, plancheck::Verdict::kSafe) << where;
+    expect_same(c.check_motion(a, b, o), clear, where + ": again");
+    expect_same(c.check_motion(a, b, o), cold(a, b, o), where + ": again against cold");
+    c.check_motion(a, b, plancheck::MotionOptions{!o.verdict_only});  // other options between
+    for (int i = 0; i < 100; ++i) c.check_motion({-50.0 + i}, {-49.0 + i}, o);  // more than are kept
+    expect_same(c.check_motion(a, b, o), clear, where + ": after many");
+    c.move_object("Cube", {{1, 0, 1}, {}});  // onto the bar's way: the motion meets it
+    const plancheck::MotionResult hit = c.check_motion(a, b, o);
+    EXPECT_NE(hit.verdict, plancheck::Verdict::kSafe) << where;
+    expect_same(hit, cold(a, b, o), where + ": moved");
+    for (const plancheck::MotionOptions other : {plancheck::MotionOptions{false}, plancheck::MotionOptions{true},
+                                                 plancheck::MotionOptions{true, true}})
+      expect_same(c.check_motion(a, b, other), cold(a, b, other), where + ": moved, the other options");
   }
 }
 

@@ -147,6 +147,51 @@ void plan_and_verify(const std::string& name, const fs::path& scene_path, const 
     write_text(file, csv);
     plans += " \"" + file.string() + "\"";
   }
+  {
+    // The validator's bool answer is check_motion's, whether its screen of
+    // OMPL's discrete states rejects the motion first or the certificate
+    // decides: random safe states and others near them (a quarter of the
+    // space's extent), and each unsafe one shortened from its end in steps
+    // of 10% until it is safe, so that some violations fall between the
+    // discrete states (the certificate's) as others fall on one (the
+    // screen's).
+    ob::ScopedState<> a(si), b(si), c(si), mid(si);
+    int screened = 0, certificate = 0, motions = 0;
+    auto compare = [&](const ob::State* x, const ob::State* y) {
+      ++motions;
+      const bool safe = checker->check_motion(values(x, n), values(y, n)).verdict == plancheck::Verdict::kSafe;
+      if (si->getMotionValidator()->checkMotion(x, y) != safe) {
+        fail(name + ": the motion validator's answer is not check_motion's");
+        return true;
+      }
+      if (safe) return true;
+      // Would the screen alone reject it (a discrete state inside not safe)?
+      const unsigned int segs = si->getStateSpace()->validSegmentCount(x, y);
+      bool hit = false;
+      for (unsigned int k = 1; k < segs && !hit; ++k) {
+        si->getStateSpace()->interpolate(x, y, static_cast<double>(k) / segs, mid.get());
+        hit = !si->isValid(mid.get());
+      }
+      (hit ? screened : certificate)++;
+      return false;
+    };
+    for (int i = 0; i < 300; ++i) {
+      do sampler->sampleUniform(a.get());
+      while (!si->isValid(a.get()));
+      do {
+        sampler->sampleUniformNear(b.get(), a.get(), 0.25 * si->getMaximumExtent());
+        si->enforceBounds(b.get());
+      } while (!si->isValid(b.get()));
+      double s = 1.0;
+      for (int k = 0; k < 40 && !compare(a.get(), k == 0 ? b.get() : c.get()); ++k) {
+        s *= 0.9;
+        si->getStateSpace()->interpolate(a.get(), b.get(), s, c.get());
+      }
+    }
+    std::printf("%s: %d motions; unsafe: %d with a discrete state not safe, %d without\n", name.c_str(), motions,
+                screened, certificate);
+    if (screened == 0 || certificate == 0) fail(name + ": the motions did not exercise both the screen and the certificate");
+  }
   // Every path, every motion between its states: certified safe.
   const std::string cmd = "\"" + plancheck + "\" verify \"" + scene_path.string() + "\"" + plans +
                           " --continuous --quiet --out \"" + (dir / "verify").string() + "\" > \"" +
