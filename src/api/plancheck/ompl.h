@@ -19,7 +19,8 @@
 // verdict is safe (no contact, clearance at least the safety margin, within
 // limits); a motion is valid when Checker::check_motion (verdict-only,
 // first_violation) says safe: certified for every configuration on the
-// straight line in plan units, not at sampled points.
+// straight line in plan units, not at sampled points (OMPL's own discrete
+// states are checked first, only to reject a motion sooner).
 #pragma once
 
 #include <plancheck/plancheck.h>
