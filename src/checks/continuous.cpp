@@ -189,45 +189,58 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
                               : std::numeric_limits<double>::infinity();
   }
   // A planner checks many motions from one state (RRTConnect's connect
-  // steps go on from the last state added; a path's edges share their
-  // ends; simplifying a path checks motions between its few states again
-  // and again): the end states this thread checked last (up to kKept, the
-  // least recently used replaced) are kept, keyed by the checker (each
-  // world version is a checker of its own), the state's bits and the
-  // request's limit, and taken instead of checking again. check_state
-  // without a seed is a function of exactly these, so a state taken is bit
-  // for bit the one checked.
+  // steps go on from the last state added, and a tree's states are the
+  // nearest of many samples; a path's edges share their ends; simplifying a
+  // path checks motions between its few states again and again): the end
+  // states this thread checked last (up to kKept, the least recently used
+  // replaced) are kept, keyed by the checker (each world version is a
+  // checker of its own), the state's bits and the request's limit, and
+  // taken instead of checking again. check_state without a seed is a
+  // function of exactly these, so a state taken is bit for bit the one
+  // checked. 256: on the OMPL bench's planner runs 8 kept states missed
+  // 3,694 of 5,724 ends (URDF arm), 256 missed 2,361 (2,331 distinct).
   struct EndMemo {
     std::uint64_t checker = 0;  // Checker::instance_id(); 0: empty
     std::uint64_t used = 0;     // when last taken or kept (the thread's count)
+    std::uint64_t hash = 0;     // of the state's bits, compared first
     std::vector<double> q;
     double exact_below = 0.0;
     StateResult result;
   };
-  constexpr int kKept = 8;
-  thread_local EndMemo memo[kKept];
+  constexpr int kKept = 256;
+  thread_local std::vector<EndMemo> memo(kKept);
   thread_local std::uint64_t clock = 0;
   auto same_bits = [](const std::vector<double>& x, const std::vector<double>& y) {
     return x.size() == y.size() && (x.empty() || std::memcmp(x.data(), y.data(), x.size() * sizeof(double)) == 0);
   };
+  auto hash_of = [](const std::vector<double>& x) {
+    std::uint64_t h = 1469598103934665603ull;  // FNV-1a over the bytes
+    const auto* bytes = reinterpret_cast<const unsigned char*>(x.data());
+    for (std::size_t i = 0; i < x.size() * sizeof(double); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
+    return h;
+  };
   const std::uint64_t id = checker_.instance_id();
   auto end_state = [&](const std::vector<double>& q, StateResult& out, int other) {
-    for (int i = 0; i < kKept; ++i)
-      if (memo[i].checker == id && std::memcmp(&memo[i].exact_below, &request.exact_below, sizeof(double)) == 0 &&
-          same_bits(memo[i].q, q)) {
-        out = memo[i].result;
-        memo[i].used = ++clock;
+    const std::uint64_t h = hash_of(q);
+    int slot = other == 0 ? 1 : 0;  // never the other end's entry
+    for (int i = 0; i < kKept; ++i) {
+      EndMemo& m = memo[static_cast<std::size_t>(i)];
+      if (m.hash == h && m.checker == id && std::memcmp(&m.exact_below, &request.exact_below, sizeof(double)) == 0 &&
+          same_bits(m.q, q)) {
+        out = m.result;
+        m.used = ++clock;
         return i;
       }
+      if (i != other && m.used < memo[static_cast<std::size_t>(slot)].used) slot = i;
+    }
     checker_.check_state(q, out, request);
-    int slot = other == 0 ? 1 : 0;  // never the other end's entry
-    for (int i = 0; i < kKept; ++i)
-      if (i != other && memo[i].used < memo[slot].used) slot = i;
-    memo[slot].checker = id;
-    memo[slot].used = ++clock;
-    memo[slot].q = q;
-    memo[slot].exact_below = request.exact_below;
-    memo[slot].result = out;
+    EndMemo& m = memo[static_cast<std::size_t>(slot)];
+    m.checker = id;
+    m.used = ++clock;
+    m.hash = h;
+    m.q = q;
+    m.exact_below = request.exact_below;
+    m.result = out;
     return slot;
   };
   const int slot_a = end_state(qa, sa, -1);
