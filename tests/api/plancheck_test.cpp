@@ -1058,7 +1058,7 @@ TEST(Api, MotionAskedAgainIsTheSameAnswerAndSeesWorldChanges) {
     expect_same(c.check_motion(a, b, o), clear, where + ": again");
     expect_same(c.check_motion(a, b, o), cold(a, b, o), where + ": again against cold");
     c.check_motion(a, b, plancheck::MotionOptions{!o.verdict_only});  // other options between
-    for (int i = 0; i < 100; ++i) c.check_motion({-50.0 + i}, {-49.0 + i}, o);  // more than are kept
+    for (int i = 0; i < 300; ++i) c.check_motion({-50.0 + 0.25 * i}, {-49.0 + 0.25 * i}, o);  // more than are kept (128)
     expect_same(c.check_motion(a, b, o), clear, where + ": after many");
     c.move_object("Cube", {{1, 0, 1}, {}});  // onto the bar's way: the motion meets it
     const plancheck::MotionResult hit = c.check_motion(a, b, o);
