@@ -188,7 +188,7 @@ void check_one(const detail::Snapshot& d, const std::vector<double>& params, Sta
 }
 
 void motion_checked(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
-                    MotionResult& out, const MotionOptions& options);
+                    MotionResult& out, const MotionOptions& options, int threads);
 
 // A planner asks for the same motion again and again (simplifying a path
 // asks for motions between its few states many times over, and checks the
@@ -200,8 +200,9 @@ void motion_checked(const detail::Snapshot& d, const std::vector<double>& from, 
 // states' bits and the options, and taken instead of checking again.
 // motion_checked is a function of exactly these, so a kept answer is bit
 // for bit the one a check gives.
+// threads: for one motion's pairs (the answer does not depend on them).
 void motion_one(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
-                MotionResult& out, const MotionOptions& options) {
+                MotionResult& out, const MotionOptions& options, int threads = 1) {
   struct Kept {
     std::uint64_t checker = 0;  // 0: empty
     std::uint64_t used = 0;
@@ -233,7 +234,7 @@ void motion_one(const detail::Snapshot& d, const std::vector<double>& from, cons
     }
     if (k.used < kept[static_cast<std::size_t>(slot)].used) slot = i;
   }
-  motion_checked(d, from, to, out, options);
+  motion_checked(d, from, to, out, options, threads);
   Kept& k = kept[static_cast<std::size_t>(slot)];
   k.checker = id;
   k.used = ++clock;
@@ -249,10 +250,10 @@ void motion_one(const detail::Snapshot& d, const std::vector<double>& from, cons
 // (src/checks/plan_check.cpp, verify_segments): state 0's own violation,
 // then the segment's, then state 1's.
 void motion_checked(const detail::Snapshot& d, const std::vector<double>& from, const std::vector<double>& to,
-                    MotionResult& out, const MotionOptions& options) {
+                    MotionResult& out, const MotionOptions& options, int threads) {
   plancheck_core::StateResult sa, sb;
   double until = 0.0;
-  const plancheck_core::SegmentResult g = d.segments().check_motion(from, to, options.verdict_only, sa, sb, &until, options.first_violation);
+  const plancheck_core::SegmentResult g = d.segments().check_motion(from, to, options.verdict_only, sa, sb, &until, options.first_violation, threads);
   const plancheck_core::Scene& scene = d.scene->scene;
   const double unit = scene.length_scale;
   out = MotionResult{};
@@ -568,7 +569,8 @@ MotionResult Checker::check_motion(const std::vector<double>& from, const std::v
   validate(*now->scene, from.data(), from.size(), "from");
   validate(*now->scene, to.data(), to.size(), "to");
   MotionResult out;
-  translated([&] { motion_one(*now, from, to, out, options); });
+  // One motion: its pairs march on the checker's threads.
+  translated([&] { motion_one(*now, from, to, out, options, data_->threads); });
   return out;
 }
 

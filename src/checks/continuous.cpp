@@ -16,6 +16,7 @@
 #include "src/scene/plan.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -172,7 +173,7 @@ double SegmentChecker::end_limit(const std::vector<double>& bounds) const {
 
 SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const std::vector<double>& qb,
                                            bool verdict_only, StateResult& sa, StateResult& sb,
-                                           double* certified_until, bool first_violation) const {
+                                           double* certified_until, bool first_violation, int threads) const {
   // The pairs' bounds once: for the verdict-only ends' limit and the march.
   std::vector<double> bounds;
   bound_.pair_bounds(plan_, qa, qb, bounds);
@@ -245,7 +246,7 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
   };
   const int slot_a = end_state(qa, sa, -1);
   end_state(qb, sb, slot_a);
-  return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds, first_violation);
+  return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds, first_violation, threads);
 }
 
 SegmentResult SegmentChecker::check_motion_reference(const std::vector<double>& qa, const std::vector<double>& qb,
@@ -435,7 +436,8 @@ constexpr double kProbe = 4.0;
 SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std::vector<double>& qb,
                                         const StateResult& sa, const StateResult& sb,
                                         double* certified_until, const Heightfield* terrain,
-                                        const std::vector<double>* given_bounds, bool first_violation) const {
+                                        const std::vector<double>* given_bounds, bool first_violation,
+                                        int threads) const {
   SegmentResult out;
   double until = 0.0;
   out.checked = true;
@@ -457,7 +459,6 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   std::vector<PairData> pd(np);
   PosedParts posed;
   posed.terrain = terrain;
-  PairAnswer answer;
   std::vector<double> gap, guard;
   checker_.pose_parts(qa, posed);
   checker_.pair_gaps(posed, gap, guard);  // pair_distance's answers to need 0, all at once
@@ -475,11 +476,11 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     pd[k].rate = bounds[k] * (1.0 + 1e-12);
   }
   std::vector<double> q;
-  auto point = [&](double t) -> const std::vector<double>& {
+  auto point = [&](double t, std::vector<double>& buf) -> const std::vector<double>& {
     if (t == 0.0) return qa;
     if (t == 1.0) return qb;
-    state_between(qa, qb, t, q);
-    return q;
+    state_between(qa, qb, t, buf);
+    return buf;
   };
   auto note_sample = [&](double d, int a, int b) {
     if (d < out.min_sampled) {
@@ -494,7 +495,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   auto end_sample = [&](double t, const StateResult& st) {
     Sample smp = to_sample(t, st);
     if (smp.bound && !(smp.d >= first_limit())) {
-      checker_.check_state(point(t), exact_end, row_request());  // (never with a dug terrain: ends exact)
+      checker_.check_state(point(t, q), exact_end, row_request());  // (never with a dug terrain: ends exact)
       smp = to_sample(t, exact_end);
     }
     return smp;
@@ -510,8 +511,6 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   struct Point {
     double t, v, g, e;
   };
-  std::vector<Point> rights;  // the pair's samples right of the certified prefix, nearest last
-  std::vector<int> two(2);
   bool gave_up = false;
 
   struct Witness {
@@ -526,6 +525,143 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   auto piece_bound = [&](const Point& x, const Point& y, double rate) {
     return std::min({x.v, y.v, 0.5 * (x.v + y.v - rate * (y.t - x.t))});
   };
+  // What one pair's march needs of its own (one per thread when pairs march
+  // in parallel).
+  struct Scratch {
+    std::vector<Point> rights;  // the pair's samples right of the certified prefix, nearest last
+    PosedParts posed;           // only the pair's two parts posed at each sample
+    PairAnswer answer;
+    std::vector<double> q;
+    std::vector<int> two = std::vector<int>(2);
+  };
+  // What one pair's march over one pass found.
+  struct March {
+    double lower = std::numeric_limits<double>::infinity();  // its least certified piece bound
+    std::size_t steps = 0;
+    double min_d = std::numeric_limits<double>::infinity();  // its least exact distance sampled (the first such)
+    int min_a = -1, min_b = -1;
+    bool witness = false;
+    double t = 0.0;      // the witness's
+    double until = 1.0;  // where its certificate stopped before the witness
+    bool budget = false;  // stopped where may_sample said no (or t could not be split): cur and rights as they stand
+    Point cur{};
+  };
+  Scratch serial;
+  serial.posed.terrain = terrain;
+  // Pair k's march against `target` (the piece bounds must clear it), no
+  // further than `stop`: each piece whose bound clears the target is
+  // certified; otherwise one sample goes where the pieces' ends stop
+  // covering it, unless may_sample(steps so far) says no.
+  auto march = [&](std::size_t k, double target, double limit, double stop, Scratch& s, March& m,
+                   auto&& may_sample) {
+    PairData& p = pd[k];
+    const auto [a, b] = pairs_[k];
+    const double rate = p.rate;
+    const double va = std::max(p.gap_a, floor_a), vb = std::max(p.gap_b, floor_b);
+    Point& cur = m.cur;
+    cur = Point{0.0, va, p.guard_a, va};
+    std::vector<Point>& rights = s.rights;
+    rights.assign(1, Point{1.0, vb, p.guard_b, vb});
+    while (!rights.empty() && cur.t < stop) {
+      const Point& r = rights.back();
+      const double g = std::max(cur.g, r.g);
+      const double lb = piece_bound(cur, r, rate);
+      if (lb >= target + g) {
+        m.lower = std::min(m.lower, lb);
+        cur = r;
+        rights.pop_back();
+        continue;
+      }
+      // Where the piece is not covered: each end's bound certifies the
+      // pair for (v - target) / rate either side of it. One sample in the
+      // middle of that gap when the pair's estimated distance would cover
+      // it; else one that covers only what that estimate allows from the
+      // left, so that its search is likely to prove what it is asked (a
+      // search asked beyond the pair's distance costs most and certifies
+      // nothing; halving spans asks that on every long one).
+      const double T = target + g;
+      const double ra = std::max(0.0, (cur.v - T) / rate), rb = std::max(0.0, (r.v - T) / rate);
+      const double gap_lo = cur.t + ra, gap_hi = r.t - rb;
+      const double est = std::min(cur.e, r.e);
+      const double x_est = T + kAsk * (est - T);
+      double tm = 0.5 * (gap_lo + gap_hi);
+      bool probe = false;
+      if (T + 0.5 * rate * (gap_hi - gap_lo) > x_est) {
+        if (rate * (gap_hi - gap_lo) > kProbe * 2.0 * (x_est - T))
+          probe = true;
+        else
+          tm = std::min(tm, gap_lo + (x_est - T) / rate);
+      }
+      if (!(tm > cur.t && tm < r.t)) tm = 0.5 * (cur.t + r.t);
+      if (!may_sample(m.steps) || !(tm > cur.t && tm < r.t)) {
+        m.budget = true;
+        return;
+      }
+      ++m.steps;
+      // Its bound must certify [cur, tm] (the slack covers what
+      // pair_distance takes off a bound it proves); one in the gap's
+      // middle, [tm, r] too.
+      double need = std::max(limit, 2.0 * T + rate * (tm - cur.t) - cur.v);
+      if (tm - gap_lo >= 0.5 * (gap_hi - gap_lo)) need = std::max(need, 2.0 * T + rate * (r.t - tm) - r.v);
+      if (probe) need = std::max(limit, x_est);
+      need += 2.0 * (g + kDistanceTieTolerance) + 1e-12 * std::abs(need);
+      // Searched within a factor of the need up to a little short of the
+      // estimate, so that a pair as far as estimated is proven at once.
+      const double cap = T + kCap * (est - T);
+      const double rel = std::clamp(cap / need - 1.0, kMinRel, kRel);
+      const std::vector<double>& at = point(tm, s.q);
+      s.two[0] = a;
+      s.two[1] = b;
+      checker_.pose_parts(at, s.posed, s.two);
+      // Proven apart here by either neighbour: no collision test needed.
+      const double apart = std::max(cur.v - rate * (tm - cur.t), r.v - rate * (r.t - tm)) - g;
+      auto note = [&](double d) {
+        if (d < m.min_d) {
+          m.min_d = d;
+          m.min_a = a;
+          m.min_b = b;
+        }
+      };
+      if (!(apart > 0.0) && checker_.pair_collides(s.posed, k)) {
+        note(0.0);
+        m.witness = true;
+        m.t = tm;
+        m.until = cur.t;
+        return;
+      }
+      PairAnswer& answer = s.answer;
+      answer = PairAnswer{};
+      answer.seeded = p.seeded;
+      answer.slot_a = p.slot_a;
+      answer.slot_b = p.slot_b;
+      checker_.pair_distance(s.posed, k, need * (1.0 + rel), answer, false, rel);
+      if (answer.distance < limit) {
+        // Something within the factor of the limit was found (a bound
+        // proven from nothing found lies above it): exact, below it,
+        // from the triangles it found.
+        checker_.pair_distance(s.posed, k, answer.upper * (1.0 + 1e-12) + 1e-15, answer);
+      }
+      if (answer.seeded) {
+        p.seeded = true;
+        p.slot_a = answer.slot_a;
+        p.slot_b = answer.slot_b;
+      }
+      if (answer.exact) {
+        note(answer.distance);
+        if (answer.distance < limit) {
+          m.witness = true;
+          m.t = tm;
+          m.until = cur.t;
+          return;
+        }
+      }
+      // Found something: the pair is about that far here; nothing found:
+      // perhaps much farther.
+      const double e = answer.upper < std::numeric_limits<double>::infinity() ? answer.upper
+                                                                               : kGrow * need * (1.0 + rel);
+      rights.push_back(Point{tm, answer.distance, answer.guard, e});
+    }
+  };
   // One pass against `target` (as the reference's certify): the witness of
   // least t found, or nothing when every pair is certified on the whole
   // segment (or the budget ran out: gave_up); `lower` gets the least bound.
@@ -535,127 +671,99 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     std::optional<Witness> best;
     double until_here = 1.0;
     for (std::size_t k = 0; k < np; ++k) {
-      PairData& p = pd[k];
-      if (!p.live) continue;
+      if (!pd[k].live) continue;
       const auto [a, b] = pairs_[k];
-      const double rate = p.rate;
-      const double va = std::max(p.gap_a, floor_a), vb = std::max(p.gap_b, floor_b);
-      Point cur{0.0, va, p.guard_a, va};
-      rights.assign(1, Point{1.0, vb, p.guard_b, vb});
       // A pair marches no further than the least witness found so far.
-      const double stop = best ? best->t : 2.0;
-      while (!rights.empty() && cur.t < stop) {
-        const Point& r = rights.back();
-        const double g = std::max(cur.g, r.g);
-        const double lb = piece_bound(cur, r, rate);
-        if (lb >= target + g) {
-          lower = std::min(lower, lb);
-          cur = r;
-          rights.pop_back();
-          continue;
+      March m;
+      march(k, target, limit, best ? best->t : 2.0, serial, m,
+            [&](std::size_t local) { return out.steps + local < options_.max_steps; });
+      out.steps += m.steps;
+      lower = std::min(lower, m.lower);
+      note_sample(m.min_d, m.min_a, m.min_b);
+      if (m.budget) {
+        // Cannot be settled: a violation without a witness, never a false
+        // safe; what is left unsettled is bounded as it stands.
+        gave_up = true;
+        auto settle = [&](double l) { lower = std::min(lower, std::isfinite(l) ? std::max(l, 0.0) : 0.0); };
+        Point cur = m.cur;
+        const std::vector<Point>& rights = serial.rights;
+        for (std::size_t i = rights.size(); i-- > 0;) {
+          settle(piece_bound(cur, rights[i], pd[k].rate));
+          cur = rights[i];
         }
-        // Where the piece is not covered: each end's bound certifies the
-        // pair for (v - target) / rate either side of it. One sample in the
-        // middle of that gap when the pair's estimated distance would cover
-        // it; else one that covers only what that estimate allows from the
-        // left, so that its search is likely to prove what it is asked (a
-        // search asked beyond the pair's distance costs most and certifies
-        // nothing; halving spans asks that on every long one).
-        const double T = target + g;
-        const double ra = std::max(0.0, (cur.v - T) / rate), rb = std::max(0.0, (r.v - T) / rate);
-        const double gap_lo = cur.t + ra, gap_hi = r.t - rb;
-        const double est = std::min(cur.e, r.e);
-        const double x_est = T + kAsk * (est - T);
-        double tm = 0.5 * (gap_lo + gap_hi);
-        bool probe = false;
-        if (T + 0.5 * rate * (gap_hi - gap_lo) > x_est) {
-          if (rate * (gap_hi - gap_lo) > kProbe * 2.0 * (x_est - T))
-            probe = true;
-          else
-            tm = std::min(tm, gap_lo + (x_est - T) / rate);
+        until_here = std::min(until_here, rights.empty() ? cur.t : 0.0);
+        for (std::size_t j = k + 1; j < np; ++j) {
+          if (!pd[j].live) continue;
+          const Point x{0.0, std::max(pd[j].gap_a, floor_a), pd[j].guard_a, 0.0};
+          const Point y{1.0, std::max(pd[j].gap_b, floor_b), pd[j].guard_b, 0.0};
+          const double l = piece_bound(x, y, pd[j].rate);
+          settle(l);
+          if (!(l >= target + std::max(x.g, y.g))) until_here = 0.0;
         }
-        if (!(tm > cur.t && tm < r.t)) tm = 0.5 * (cur.t + r.t);
-        if (out.steps >= options_.max_steps || !(tm > cur.t && tm < r.t)) {
-          // Cannot be settled: a violation without a witness, never a false
-          // safe; what is left unsettled is bounded as it stands.
-          gave_up = true;
-          auto settle = [&](double l) { lower = std::min(lower, std::isfinite(l) ? std::max(l, 0.0) : 0.0); };
-          for (std::size_t i = rights.size(); i-- > 0;) {
-            settle(piece_bound(cur, rights[i], rate));
-            cur = rights[i];
-          }
-          until_here = std::min(until_here, rights.empty() ? cur.t : 0.0);
-          for (std::size_t j = k + 1; j < np; ++j) {
-            if (!pd[j].live) continue;
-            const Point x{0.0, std::max(pd[j].gap_a, floor_a), pd[j].guard_a, 0.0};
-            const Point y{1.0, std::max(pd[j].gap_b, floor_b), pd[j].guard_b, 0.0};
-            const double l = piece_bound(x, y, pd[j].rate);
-            settle(l);
-            if (!(l >= target + std::max(x.g, y.g))) until_here = 0.0;
-          }
-          if (first_pass) reached = std::min(until_here, best ? best->t : 1.0);
-          return best;
-        }
-        ++out.steps;
-        // Its bound must certify [cur, tm] (the slack covers what
-        // pair_distance takes off a bound it proves); one in the gap's
-        // middle, [tm, r] too.
-        double need = std::max(limit, 2.0 * T + rate * (tm - cur.t) - cur.v);
-        if (tm - gap_lo >= 0.5 * (gap_hi - gap_lo)) need = std::max(need, 2.0 * T + rate * (r.t - tm) - r.v);
-        if (probe) need = std::max(limit, x_est);
-        need += 2.0 * (g + kDistanceTieTolerance) + 1e-12 * std::abs(need);
-        // Searched within a factor of the need up to a little short of the
-        // estimate, so that a pair as far as estimated is proven at once.
-        const double cap = T + kCap * (est - T);
-        const double rel = std::clamp(cap / need - 1.0, kMinRel, kRel);
-        const std::vector<double>& at = point(tm);
-        two[0] = a;
-        two[1] = b;
-        checker_.pose_parts(at, posed, two);
-        // Proven apart here by either neighbour: no collision test needed.
-        const double apart = std::max(cur.v - rate * (tm - cur.t), r.v - rate * (r.t - tm)) - g;
-        if (!(apart > 0.0) && checker_.pair_collides(posed, k)) {
-          note_sample(0.0, a, b);
-          if (!best || tm < best->t) best = Witness{tm, a, b};
-          until_here = std::min(until_here, cur.t);
-          break;
-        }
-        answer = PairAnswer{};
-        answer.seeded = p.seeded;
-        answer.slot_a = p.slot_a;
-        answer.slot_b = p.slot_b;
-        checker_.pair_distance(posed, k, need * (1.0 + rel), answer, false, rel);
-        if (answer.distance < limit) {
-          // Something within the factor of the limit was found (a bound
-          // proven from nothing found lies above it): exact, below it,
-          // from the triangles it found.
-          checker_.pair_distance(posed, k, answer.upper * (1.0 + 1e-12) + 1e-15, answer);
-        }
-        if (answer.seeded) {
-          p.seeded = true;
-          p.slot_a = answer.slot_a;
-          p.slot_b = answer.slot_b;
-        }
-        if (answer.exact) {
-          note_sample(answer.distance, a, b);
-          if (answer.distance < limit) {
-            if (!best || tm < best->t) best = Witness{tm, a, b};
-            until_here = std::min(until_here, cur.t);
-            break;
-          }
-        }
-        // Found something: the pair is about that far here; nothing found:
-        // perhaps much farther.
-        const double e = answer.upper < std::numeric_limits<double>::infinity() ? answer.upper
-                                                                                 : kGrow * need * (1.0 + rel);
-        rights.push_back(Point{tm, answer.distance, answer.guard, e});
+        if (first_pass) reached = std::min(until_here, best ? best->t : 1.0);
+        return best;
+      }
+      if (m.witness) {
+        if (!best || m.t < best->t) best = Witness{m.t, a, b};
+        until_here = std::min(until_here, m.until);
       }
     }
     if (first_pass) reached = best ? std::min(until_here, best->t) : 1.0;
     return best;
   };
+  // The first pass with the pairs marching on `threads` threads: every pair
+  // marches the whole segment (no witness is known to stop at), as the
+  // serial pass does when it finds none. Taken only when no pair finds a
+  // witness and all the samples stay within the budget: then the serial
+  // pass would have taken exactly these samples (each pair's march reads
+  // only its own data), and the bound (a minimum), the step count (a sum)
+  // and the least distance sampled (merged in pair order) are its, bit for
+  // bit. Otherwise the pairs' seeds are put back and the serial pass runs:
+  // the answer never depends on the threads.
+  auto certify_parallel = [&](double target, double limit, bool contact, double& lower) -> bool {
+    for (const Sample* e : {&end0, &end1})
+      if ((contact && e->collision) || e->d < limit) return false;
+    const std::vector<PairData> kept = pd;
+    std::vector<March> marches(np);
+    std::atomic<bool> stop{false};
+    std::atomic<std::size_t> total{0};
+    const int workers = threads > 0 ? threads : hardware_threads();
+    std::vector<Scratch> scratch(static_cast<std::size_t>(std::max(workers, 1)));
+    for (Scratch& s : scratch) s.posed.terrain = terrain;
+    parallel_for(np, workers, 1, [&](std::size_t begin, std::size_t end, int slot) {
+      Scratch& s = scratch[static_cast<std::size_t>(slot)];
+      for (std::size_t k = begin; k < end; ++k) {
+        if (!pd[k].live || stop.load(std::memory_order_relaxed)) continue;
+        March& m = marches[k];
+        march(k, target, limit, 2.0, s, m, [&](std::size_t local) {
+          return !stop.load(std::memory_order_relaxed) &&
+                 total.load(std::memory_order_relaxed) + local < options_.max_steps;
+        });
+        total.fetch_add(m.steps, std::memory_order_relaxed);
+        if (m.witness || m.budget) stop.store(true, std::memory_order_relaxed);
+      }
+    });
+    std::size_t steps = 0;
+    for (const March& m : marches) steps += m.steps;
+    if (stop.load() || !(out.steps + steps < options_.max_steps)) {
+      pd = kept;
+      return false;
+    }
+    for (std::size_t k = 0; k < np; ++k) {
+      out.steps += marches[k].steps;
+      lower = std::min(lower, marches[k].lower);
+      note_sample(marches[k].min_d, marches[k].min_a, marches[k].min_b);
+    }
+    reached = 1.0;
+    return true;
+  };
 
   two_passes(margin_, options_, gave_up, out, [&](double target, double limit, bool contact, double& lower) {
+    if (first_pass && threads != 1 && certify_parallel(target, limit, contact, lower)) {
+      until = 1.0;
+      first_pass = false;
+      return std::optional<Witness>{};
+    }
     const std::optional<Witness> w = certify(target, limit, contact, lower);
     if (first_pass) until = w || gave_up ? reached : 1.0;
     first_pass = false;

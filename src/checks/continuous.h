@@ -83,15 +83,17 @@ class SegmentChecker {
   // first pass's target (the margin; contact without one) from qa up to this
   // fraction of it: 1 when nothing is found, else where the certificate
   // stopped before the first witness (0 at an end).
-  // The end states a thread checked last (eight) are kept (per thread) and
+  // The end states a thread checked last (256) are kept (per thread) and
   // taken for a later motion with an end of the same bits on this checker
   // in the same mode: a planner's chained motions check each state once.
   // first_violation: stop at the first witness against the margin (no
   // contact pass after it): the same safe or not, the same certified_until;
   // a witness found so is a clearance witness and lower_bound is NaN.
+  // threads (not 1): the first pass's pairs march on that many threads (0:
+  // all); the answer is the same whatever the threads.
   SegmentResult check_motion(const std::vector<double>& qa, const std::vector<double>& qb, bool verdict_only,
                              StateResult& sa, StateResult& sb, double* certified_until = nullptr,
-                             bool first_violation = false) const;
+                             bool first_violation = false, int threads = 1) const;
 
   // The previous algorithm, kept as the slow reference of the tests: one
   // bound for all pairs (pair_bound) against the least distance of any pair,
@@ -117,10 +119,11 @@ class SegmentChecker {
   // The per-pair algorithm (check, check_motion on the scene's terrain).
   // bounds: the pairs' motion bounds from qa to qb (MotionBound::pair_bounds
   // over plan_) when the caller has them; nullptr: computed here.
+  // threads: as check_motion's.
   SegmentResult run_pairs(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
                           const StateResult& sb, double* certified_until = nullptr,
                           const Heightfield* terrain = nullptr, const std::vector<double>* bounds = nullptr,
-                          bool first_violation = false) const;
+                          bool first_violation = false, int threads = 1) const;
   // Where the end states' distances count (m): every pair at least
   // min(its state's distance, this) at an end in both modes, so that both
   // modes take the same steps (check_motion's verdict-only ends are exact

@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <random>
 #include <sstream>
@@ -375,6 +376,57 @@ TEST(ContinuousReference, RandomMotionsOfTheDefaultArm) {
 
 TEST(ContinuousReference, RandomMotionsOfTheUrdfArmAlongOneChain) {
   random_arm_segments(true, testing::kSanitized ? 20 : 80, 0.2);  // 20: the first that hold a safe segment (18 flagged)
+}
+
+// check_motion with its pairs marching on 2 and 4 threads: the same answer,
+// bit for bit, as on one, on random motions of both arms (some unsafe: the
+// parallel pass then gives way to the serial one), in all four modes, and
+// with a budget small enough that some motions run out of it.
+void threads_equal_one(bool urdf, int count, std::size_t max_steps) {
+  TempDir dir("continuous-threads");
+  const Scene scene = load_scene(arm_scene(dir, urdf));
+  const Checker checker(scene, 1);
+  ContinuousOptions o;
+  o.max_steps = max_steps;
+  const SegmentChecker seg(checker, scene, o);
+  ArmSegments random(scene, urdf ? 29 : 31);
+  int kinds[3] = {0, 0, 0}, unresolved = 0;
+  for (int i = 0; i < count; ++i) {
+    std::vector<double> qa, qb;
+    random.next(urdf ? 0.2 : 0.15, qa, qb);
+    for (int mode = 0; mode < 4; ++mode) {
+      const bool verdict_only = mode != 0, first = mode == 3;
+      SCOPED_TRACE((urdf ? "URDF arm motion " : "default arm motion ") + std::to_string(i) + ", mode " +
+                   std::to_string(mode) + ", budget " + std::to_string(max_steps));
+      Checked one;
+      one.g = seg.check_motion(qa, qb, verdict_only, one.sa, one.sb, &one.until, first, 1);
+      if (mode == 0) ++kinds[kind(one.g)], unresolved += one.g.unresolved;
+      for (int threads : {2, 4}) {
+        Checked many;
+        many.g = seg.check_motion(qa, qb, verdict_only, many.sa, many.sb, &many.until, first, threads);
+        EXPECT_EQ(kind(many.g), kind(one.g));
+        EXPECT_EQ(std::memcmp(&many.g.lower_bound, &one.g.lower_bound, sizeof(double)), 0)
+            << many.g.lower_bound << " " << one.g.lower_bound;
+        EXPECT_EQ(many.g.min_sampled, one.g.min_sampled);
+        EXPECT_EQ(many.g.witness_t, one.g.witness_t);
+        EXPECT_EQ(many.g.part_a, one.g.part_a);
+        EXPECT_EQ(many.g.part_b, one.g.part_b);
+        EXPECT_EQ(many.g.steps, one.g.steps);
+        EXPECT_EQ(many.g.unresolved, one.g.unresolved);
+        EXPECT_EQ(many.until, one.until);
+      }
+    }
+  }
+  std::printf("[ %s ] %d motions: %d safe, %d clearance, %d collision, %d unresolved (budget %zu)\n",
+              urdf ? "URDF arm" : "default arm", count, kinds[0], kinds[1], kinds[2], unresolved, max_steps);
+  EXPECT_GT(kinds[0], 0);
+  EXPECT_GT(kinds[1] + kinds[2], 0);
+}
+
+TEST(ContinuousReference, MotionsOnThreadsEqualOneThread) {
+  threads_equal_one(false, testing::kSanitized ? 6 : 40, ContinuousOptions{}.max_steps);
+  threads_equal_one(true, testing::kSanitized ? 10 : 60, ContinuousOptions{}.max_steps);
+  threads_equal_one(false, testing::kSanitized ? 6 : 30, 40);  // some run out of the budget
 }
 
 // Arm motions that dip 1e-9 m below the margin between clear ends. For

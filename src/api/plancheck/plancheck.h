@@ -250,7 +250,9 @@ class PLANCHECK_API Checker {
 
   // Checks the straight-line motion from `from` to `to` (states as
   // check()'s), certified: never kSafe where any configuration on it comes
-  // below the margin. Throws Error as check() does for a bad state.
+  // below the margin. Throws Error as check() does for a bad state. Its
+  // pairs are certified on the checker's threads; the answer is the same
+  // whatever their number.
   MotionResult check_motion(const std::vector<double>& from, const std::vector<double>& to,
                             const MotionOptions& options = {}) const;
   // Many independent motions on all the checker's threads: result i is
