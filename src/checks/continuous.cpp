@@ -221,9 +221,8 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
     return h;
   };
   const std::uint64_t id = checker_.instance_id();
-  auto end_state = [&](const std::vector<double>& q, StateResult& out, int other) {
-    const std::uint64_t h = hash_of(q);
-    int slot = other == 0 ? 1 : 0;  // never the other end's entry
+  // The entry kept for q (taken: out set, its use noted), or -1.
+  auto find = [&](const std::vector<double>& q, std::uint64_t h, StateResult& out) {
     for (int i = 0; i < kKept; ++i) {
       EndMemo& m = memo[static_cast<std::size_t>(i)];
       if (m.hash == h && m.checker == id && std::memcmp(&m.exact_below, &request.exact_below, sizeof(double)) == 0 &&
@@ -232,20 +231,44 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
         m.used = ++clock;
         return i;
       }
-      if (i != other && m.used < memo[static_cast<std::size_t>(slot)].used) slot = i;
     }
-    checker_.check_state(q, out, request);
+    return -1;
+  };
+  // Keeps a state checked, in the least recently used entry but `other`.
+  auto keep = [&](const std::vector<double>& q, std::uint64_t h, const StateResult& result, int other) {
+    int slot = other == 0 ? 1 : 0;
+    for (int i = 0; i < kKept; ++i)
+      if (i != other && memo[static_cast<std::size_t>(i)].used < memo[static_cast<std::size_t>(slot)].used) slot = i;
     EndMemo& m = memo[static_cast<std::size_t>(slot)];
     m.checker = id;
     m.used = ++clock;
     m.hash = h;
     m.q = q;
     m.exact_below = request.exact_below;
-    m.result = out;
+    m.result = result;
     return slot;
   };
-  const int slot_a = end_state(qa, sa, -1);
-  end_state(qb, sb, slot_a);
+  const std::uint64_t ha = hash_of(qa), hb = hash_of(qb);
+  int slot_a = find(qa, ha, sa);
+  int slot_b = find(qb, hb, sb);
+  if (slot_a < 0 && slot_b < 0 && threads != 1) {
+    // Both ends new: checked side by side (check_state is a function of
+    // the state and the request: the same results).
+    parallel_for(2, threads, 1, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t i = begin; i < end; ++i) checker_.check_state(i == 0 ? qa : qb, i == 0 ? sa : sb, request);
+    });
+    slot_a = keep(qa, ha, sa, -1);
+    keep(qb, hb, sb, slot_a);
+  } else {
+    if (slot_a < 0) {
+      checker_.check_state(qa, sa, request);
+      slot_a = keep(qa, ha, sa, slot_b);
+    }
+    if (slot_b < 0) {
+      checker_.check_state(qb, sb, request);
+      keep(qb, hb, sb, slot_a);
+    }
+  }
   return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds, first_violation, threads);
 }
 

@@ -398,12 +398,19 @@ void threads_equal_one(bool urdf, int count, std::size_t max_steps) {
       const bool verdict_only = mode != 0, first = mode == 3;
       SCOPED_TRACE((urdf ? "URDF arm motion " : "default arm motion ") + std::to_string(i) + ", mode " +
                    std::to_string(mode) + ", budget " + std::to_string(max_steps));
-      Checked one;
-      one.g = seg.check_motion(qa, qb, verdict_only, one.sa, one.sb, &one.until, first, 1);
+      // Each on a thread of its own: no end state kept from another call
+      // (both ends are then checked side by side on several threads).
+      auto on_thread = [&](int threads) {
+        Checked c;
+        std::thread([&] { c.g = seg.check_motion(qa, qb, verdict_only, c.sa, c.sb, &c.until, first, threads); }).join();
+        return c;
+      };
+      const Checked one = on_thread(1);
       if (mode == 0) ++kinds[kind(one.g)], unresolved += one.g.unresolved;
       for (int threads : {2, 4}) {
-        Checked many;
-        many.g = seg.check_motion(qa, qb, verdict_only, many.sa, many.sb, &many.until, first, threads);
+        const Checked many = on_thread(threads);
+        expect_same_state(many.sa, one.sa, "from");
+        expect_same_state(many.sb, one.sb, "to");
         EXPECT_EQ(kind(many.g), kind(one.g));
         EXPECT_EQ(std::memcmp(&many.g.lower_bound, &one.g.lower_bound, sizeof(double)), 0)
             << many.g.lower_bound << " " << one.g.lower_bound;
