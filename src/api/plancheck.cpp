@@ -606,6 +606,12 @@ void Checker::check_motion_batch(const double* from, const double* to, std::size
   }
   // Motions are independent: out[i] is check_motion(i) whatever the thread
   // count. One motion per chunk: a motion costs from one to thousands of checks.
+  if (count == 1) {
+    // One motion (a planner's, from Python): its pairs on the threads.
+    std::vector<double> a(from, from + n), b(to, to + n);
+    translated([&] { motion_one(*now, a, b, out[0], options, data_->threads); });
+    return;
+  }
   translated([&] {
     plancheck_core::parallel_for(count, data_->threads, 1, [&](std::size_t begin, std::size_t end, int) {
       std::vector<double> a(n), b(n);

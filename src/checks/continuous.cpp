@@ -746,6 +746,17 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   auto certify_parallel = [&](double target, double limit, bool contact, double& lower) -> bool {
     for (const Sample* e : {&end0, &end1})
       if ((contact && e->collision) || e->d < limit) return false;
+    // Worth it only with two pairs or more to sample (the others are
+    // certified by their ends at once).
+    std::size_t sampled = 0;
+    for (std::size_t k = 0; k < np && sampled < 2; ++k) {
+      const PairData& p = pd[k];
+      if (!p.live) continue;
+      const Point x{0.0, std::max(p.gap_a, floor_a), p.guard_a, 0.0};
+      const Point y{1.0, std::max(p.gap_b, floor_b), p.guard_b, 0.0};
+      sampled += !(piece_bound(x, y, p.rate) >= target + std::max(x.g, y.g));
+    }
+    if (sampled < 2) return false;
     const std::vector<PairData> kept = pd;
     std::vector<March> marches(np);
     std::atomic<bool> stop{false};
