@@ -746,17 +746,17 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   auto certify_parallel = [&](double target, double limit, bool contact, double& lower) -> bool {
     for (const Sample* e : {&end0, &end1})
       if ((contact && e->collision) || e->d < limit) return false;
-    // Worth it only with two pairs or more to sample (the others are
-    // certified by their ends at once).
-    std::size_t sampled = 0;
-    for (std::size_t k = 0; k < np && sampled < 2; ++k) {
+    // The pairs to sample (the others are certified by their ends at
+    // once, here): worth it only with two or more.
+    std::vector<std::size_t> sampled;
+    for (std::size_t k = 0; k < np; ++k) {
       const PairData& p = pd[k];
       if (!p.live) continue;
       const Point x{0.0, std::max(p.gap_a, floor_a), p.guard_a, 0.0};
       const Point y{1.0, std::max(p.gap_b, floor_b), p.guard_b, 0.0};
-      sampled += !(piece_bound(x, y, p.rate) >= target + std::max(x.g, y.g));
+      if (!(piece_bound(x, y, p.rate) >= target + std::max(x.g, y.g))) sampled.push_back(k);
     }
-    if (sampled < 2) return false;
+    if (sampled.size() < 2) return false;
     const std::vector<PairData> kept = pd;
     std::vector<March> marches(np);
     std::atomic<bool> stop{false};
@@ -764,10 +764,11 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     const int workers = threads > 0 ? threads : hardware_threads();
     std::vector<Scratch> scratch(static_cast<std::size_t>(std::max(workers, 1)));
     for (Scratch& s : scratch) s.posed.terrain = terrain;
-    parallel_for(np, workers, 1, [&](std::size_t begin, std::size_t end, int slot) {
+    parallel_for(sampled.size(), workers, 1, [&](std::size_t begin, std::size_t end, int slot) {
       Scratch& s = scratch[static_cast<std::size_t>(slot)];
-      for (std::size_t k = begin; k < end; ++k) {
-        if (!pd[k].live || stop.load(std::memory_order_relaxed)) continue;
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::size_t k = sampled[i];
+        if (stop.load(std::memory_order_relaxed)) continue;
         March& m = marches[k];
         march(k, target, limit, 2.0, s, m, [&](std::size_t local) {
           return !stop.load(std::memory_order_relaxed) &&
@@ -777,6 +778,18 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
         if (m.witness || m.budget) stop.store(true, std::memory_order_relaxed);
       }
     });
+    if (!stop.load()) {
+      // The rest: one piece each, certified (no sample).
+      std::size_t next = 0;
+      for (std::size_t k = 0; k < np; ++k) {
+        if (next < sampled.size() && sampled[next] == k) {
+          ++next;
+          continue;
+        }
+        if (pd[k].live) march(k, target, limit, 2.0, serial, marches[k], [](std::size_t) { return false; });
+        if (marches[k].budget) stop.store(true);  // (never: their one piece is certified)
+      }
+    }
     std::size_t steps = 0;
     for (const March& m : marches) steps += m.steps;
     if (stop.load() || !(out.steps + steps < options_.max_steps)) {
