@@ -250,24 +250,14 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
   };
   const std::uint64_t ha = hash_of(qa), hb = hash_of(qb);
   int slot_a = find(qa, ha, sa);
-  int slot_b = find(qb, hb, sb);
-  if (slot_a < 0 && slot_b < 0 && threads != 1) {
-    // Both ends new: checked side by side (check_state is a function of
-    // the state and the request: the same results).
-    parallel_for(2, threads, 1, [&](std::size_t begin, std::size_t end, int) {
-      for (std::size_t i = begin; i < end; ++i) checker_.check_state(i == 0 ? qa : qb, i == 0 ? sa : sb, request);
-    });
-    slot_a = keep(qa, ha, sa, -1);
+  const int slot_b = find(qb, hb, sb);
+  if (slot_a < 0) {
+    checker_.check_state(qa, sa, request);
+    slot_a = keep(qa, ha, sa, slot_b);
+  }
+  if (slot_b < 0) {
+    checker_.check_state(qb, sb, request);
     keep(qb, hb, sb, slot_a);
-  } else {
-    if (slot_a < 0) {
-      checker_.check_state(qa, sa, request);
-      slot_a = keep(qa, ha, sa, slot_b);
-    }
-    if (slot_b < 0) {
-      checker_.check_state(qb, sb, request);
-      keep(qb, hb, sb, slot_a);
-    }
   }
   return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds, first_violation, threads);
 }
@@ -747,7 +737,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     for (const Sample* e : {&end0, &end1})
       if ((contact && e->collision) || e->d < limit) return false;
     // The pairs to sample (the others are certified by their ends at
-    // once, here): worth it only with two or more.
+    // once, here): worth it only with options_.parallel_pairs or more.
     std::vector<std::size_t> sampled;
     for (std::size_t k = 0; k < np; ++k) {
       const PairData& p = pd[k];
@@ -756,7 +746,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
       const Point y{1.0, std::max(p.gap_b, floor_b), p.guard_b, 0.0};
       if (!(piece_bound(x, y, p.rate) >= target + std::max(x.g, y.g))) sampled.push_back(k);
     }
-    if (sampled.size() < 2) return false;
+    if (sampled.size() < std::max<std::size_t>(2, options_.parallel_pairs)) return false;
     const std::vector<PairData> kept = pd;
     std::vector<March> marches(np);
     std::atomic<bool> stop{false};

@@ -388,6 +388,7 @@ void threads_equal_one(bool urdf, int count, std::size_t max_steps) {
   const Checker checker(scene, 1);
   ContinuousOptions o;
   o.max_steps = max_steps;
+  o.parallel_pairs = 2;  // on threads wherever two pairs need samples
   const SegmentChecker seg(checker, scene, o);
   ArmSegments random(scene, urdf ? 29 : 31);
   int kinds[3] = {0, 0, 0}, unresolved = 0;
@@ -398,8 +399,7 @@ void threads_equal_one(bool urdf, int count, std::size_t max_steps) {
       const bool verdict_only = mode != 0, first = mode == 3;
       SCOPED_TRACE((urdf ? "URDF arm motion " : "default arm motion ") + std::to_string(i) + ", mode " +
                    std::to_string(mode) + ", budget " + std::to_string(max_steps));
-      // Each on a thread of its own: no end state kept from another call
-      // (both ends are then checked side by side on several threads).
+      // Each on a thread of its own: no end state kept from another call.
       auto on_thread = [&](int threads) {
         Checked c;
         std::thread([&] { c.g = seg.check_motion(qa, qb, verdict_only, c.sa, c.sb, &c.until, first, threads); }).join();
