@@ -721,7 +721,8 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // Separations the seed's state proved, less how far each pair's parts
   // can have moved since: still lower bounds on the pairs' distances here.
   // Pairs on a dug terrain copy are not carried (the ground itself moves).
-  auto cacheable = [&](std::size_t k) { return pairs_[k].b != terrain_index_ || terrain == terrain_.get(); };
+  const bool terrain_cacheable = terrain == terrain_.get();
+  auto cacheable = [&](std::size_t k) { return terrain_cacheable || pairs_[k].b != terrain_index_; };
   static const std::vector<std::uint32_t> kNoKept;  // the terrain's triangles are its own
   std::vector<double>& carried = scratch.separation;
   // A collision-only check proves nothing beyond box gaps, which are cheaper
@@ -731,16 +732,19 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   const bool carry =
       request.distance && seed && seed->separation.size() == pairs_.size() && seed->at.size() == params.size();
   if (carry) {
-    carried.assign(pairs_.size(), 0.0);
+    carried.resize(pairs_.size());
     std::vector<double>& motion = scratch.motion;
     motion.assign(names_.size(), 0.0);
     for (std::size_t i = 0; i < n; ++i)
       if (chain_of_[i] >= 0) motion[i] = motion_.part_bound(static_cast<int>(i), seed->at, params);
+    // Every pair written, without a branch on what it carries (states far
+    // apart carry nothing on most pairs, which a branch mispredicts).
+    const double* const separation = seed->separation.data();
+    double* const carried_at = carried.data();
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
-      if (!cacheable(k)) continue;
       const double m = motion[static_cast<std::size_t>(pairs_[k].a)] + motion[static_cast<std::size_t>(pairs_[k].b)];
-      const double c = seed->separation[k] - m;
-      if (c > 0.0) carried[k] = c;  // NaN and infinite motion carry nothing
+      const double c = separation[k] - m;
+      carried_at[k] = c > 0.0 && cacheable(k) ? c : 0.0;  // NaN and infinite motion carry nothing
     }
   }
 
@@ -1000,12 +1004,21 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   std::vector<double>& proven = carried;  // carried[k] is folded into lower[k] by now
   if (seed) {
     proven.resize(pairs_.size());
-    for (std::size_t k = 0; k < pairs_.size(); ++k)
-      proven[k] = std::isfinite(lower[k]) && cacheable(k) ? lower[k] : 0.0;
+    double* const proven_at = proven.data();
+    const double* const lower_at = lower.data();
+    // (Without the terrain's exception, a loop the compiler vectorizes.)
+    if (terrain_cacheable) {
+      for (std::size_t k = 0; k < pairs_.size(); ++k) proven_at[k] = std::isfinite(lower_at[k]) ? lower_at[k] : 0.0;
+    } else {
+      for (std::size_t k = 0; k < pairs_.size(); ++k)
+        proven_at[k] = std::isfinite(lower_at[k]) && cacheable(k) ? lower_at[k] : 0.0;
+    }
   }
+  // (A swap, not a copy: the seed's former separations are not read after
+  // this, and the scratch's vector is rewritten before it is read again.)
   auto store_separations = [&] {
     if (!seed) return;
-    seed->separation.assign(proven.begin(), proven.end());
+    seed->separation.swap(proven);
     seed->at.assign(params.begin(), params.end());
   };
 
