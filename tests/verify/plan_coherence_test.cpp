@@ -6,6 +6,7 @@
 // memo emptied (bitwise), cold (within the tie tolerance), and pair by pair
 // (pose_parts + pair_distance: every pair searched exactly on its own).
 #include "src/checks/verify.h"
+#include "src/geometry/motion_bound.h"
 #include "src/scene/scene_loader.h"
 #include "support/fixtures.h"
 #include "support/sanitized.h"
@@ -251,6 +252,67 @@ TEST(PlanCoherence, RandomStatesAsOnePlanKeepTheColdVerdicts) {
       }
     }
   }
+}
+
+// What a verdict-only state proves for the next (StateSeed::separation)
+// on walks with held joints, repeats and jumps: on every pair of a state
+// without contact, at least the pair's box gap and at least what the
+// previous state's separation less both parts' motion bound carries (the
+// plan path roots the gaps of the pairs beyond the cutoff after its pair
+// loop: left out, or the carried part dropped, these fail), and never more
+// than the pair's exact distance (every pair searched on its own).
+TEST(PlanCoherence, VerdictOnlySeparationsAreTheGapsAndCarriedBounds) {
+  const Scene scene = load_scene(kDataset / "scene.json");
+  const Checker checker(scene);
+  const MotionBound motion(scene);
+  const auto pairs = checker.pairs();
+  const CheckRequest request = verdict_only_request(scene.safety_margin);
+  std::mt19937_64 rng(20261203);
+  std::size_t states = 0, above_gap = 0, carried_seen = 0;
+  for (int run = 0; run < testing::case_count(8, 2); ++run) {
+    const auto walk = held_walk(scene, rng, 24);
+    StateSeed seed;
+    for (std::size_t s = 0; s < walk.size(); ++s) {
+      const std::string at = "run " + std::to_string(run) + " state " + std::to_string(s);
+      const std::vector<double> before = seed.separation;
+      const std::vector<double> before_at = seed.at;
+      StateResult r;
+      checker.check_state(walk[s], r, request, &seed);
+      ASSERT_EQ(seed.separation.size(), pairs.size()) << at;
+      if (r.collision) continue;
+      PosedParts posed;
+      checker.pose_parts(walk[s], posed);
+      std::vector<double> gap, guard;
+      checker.pair_gaps(posed, gap, guard);
+      for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const double sep = seed.separation[k];
+        if (std::isfinite(gap[k])) {
+          EXPECT_GE(sep, gap[k]) << at << " pair " << k;
+        }
+        above_gap += sep > gap[k];
+        if (!before.empty()) {
+          const double m = motion.part_bound(pairs[k].first, before_at, walk[s]) +
+                           motion.part_bound(pairs[k].second, before_at, walk[s]);
+          const double carried = before[k] - m;
+          if (carried > 0.0 && std::isfinite(gap[k])) {
+            EXPECT_GE(sep, carried) << at << " pair " << k;
+            carried_seen += carried > gap[k];
+          }
+        }
+        if (s % 6 == 0 && sep > 0.0) {
+          PairAnswer a;
+          checker.pair_distance(posed, k, std::numeric_limits<double>::infinity(), a);
+          ASSERT_TRUE(a.exact) << at << " pair " << k;
+          EXPECT_LE(sep, a.distance) << at << " pair " << k;
+        }
+      }
+      if (::testing::Test::HasFailure()) return;
+      ++states;
+    }
+  }
+  EXPECT_GT(states, 20u);
+  EXPECT_GT(above_gap, 0u);      // some pairs searched or carried beyond their gap
+  EXPECT_GT(carried_seen, 0u);   // and some carried beyond it
 }
 
 }  // namespace
