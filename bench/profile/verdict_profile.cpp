@@ -6,7 +6,9 @@
 // the bench times it). Each workload is one function (noinline) so that
 // `valgrind --tool=callgrind --toggle-collect=<its name>` counts it alone:
 //   plancheck_verdict_profile SCENE --random N MODE...
-// MODE: cold, plan, fcl, stats. stats prints, for a one-pair scene, the
+// MODE: cold, plan, fcl, stats; collide-plans: the states of the plans
+// in the scene's plans/ folder (the ten default plans: Table 3's states),
+// cold, collision only as the bench's collide row (N unused). stats prints, for a one-pair scene, the
 // node pairs and triangle pairs each side's collision traversal runs per
 // state (plancheck's CollideResult counters; FCL's traversal node with its
 // statistics on), averaged over all states (boxes apart or not).
@@ -15,6 +17,7 @@
 #include "src/checks/verify.h"
 #include "src/geometry/collision_model.h"
 #include "src/scene/kinematics.h"
+#include "src/scene/plan.h"
 #include "src/scene/scene_loader.h"
 
 #include <fcl/fcl.h>
@@ -22,7 +25,9 @@
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
 
 #include <cstdio>
+#include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -177,6 +182,15 @@ int main(int argc, char** argv) {
       std::printf("cold: %d colliding\n", profile_cold(checker, scene, states));
     } else if (mode == "collide") {
       std::printf("collide: %d colliding\n", profile_collide(checker, states));
+    } else if (mode == "collide-plans") {
+      std::vector<std::filesystem::path> csvs;
+      for (const auto& e : std::filesystem::directory_iterator(std::filesystem::path(argv[1]).parent_path() / "plans"))
+        if (e.path().extension() == ".csv") csvs.push_back(e.path());
+      std::sort(csvs.begin(), csvs.end());
+      States plan_states;
+      for (const auto& csv : csvs)
+        for (const auto& st : pc::load_plan(scene, csv).states) plan_states.push_back(st);
+      std::printf("collide-plans: %zu states, %d colliding\n", plan_states.size(), profile_collide(checker, plan_states));
     } else if (mode == "plan") {
       std::printf("plan: %d colliding\n", profile_plan(checker, scene, plans));
     } else if (mode == "fcl") {

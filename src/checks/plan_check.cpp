@@ -87,10 +87,11 @@ std::vector<PlanResult> verify_plans(const Checker& checker, const Scene& scene,
   }
   parallel_for(runs.size(), options.threads, 1, [&](std::size_t run_begin, std::size_t run_end, int) {
     std::size_t done = 0;
+    StateSeed seed;  // each run starts from a fresh one (reset), in storage kept across the runs
     for (std::size_t k = run_begin; k < run_end; ++k) {
       const Run& run = runs[k];
       const std::size_t p = run.plan;
-      StateSeed seed;
+      seed.reset();
       for (std::size_t s = run.begin; s < run.end; ++s) {
         const auto t0 = std::chrono::steady_clock::now();
         if (terrain_later)

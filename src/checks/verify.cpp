@@ -121,6 +121,37 @@ inline double magnitude_guard(double mag_a, double mag_b) {
 }
 
 // The terrain's box: its pyramid's root, padded as a static part's box.
+// What a state proves of pairs [0, n) for the next (the seed's
+// separations): each pair's lower bound l = std::max(sqrt(g2[k]),
+// carried[k]) (carried null: 0), or 0 where l or lower[k] is not finite
+// (lower[k] infinite marks a pair outside the check). l is the pair loop's
+// bound bit for bit: its gap is sqrt(g2) (g2 is +0, positive, infinite or
+// NaN, and sqrt(+0) is +0), and std::max(a, b) is (a < b) ? b : a, which
+// maxpd(b, a) ((b > a) ? b : a) is too. `out` may be `carried`: each entry
+// is read before it is written. Two pairs a step without branches: the
+// verdict-only plan path's pairs beyond the cutoff take their root here
+// instead of in the pair loop.
+void prove_bounds(const double* g2, const double* carried, const double* lower, double* out, std::size_t n) {
+  std::size_t k = 0;
+#if defined(__SSE2__)
+  const __m128d inf = _mm_set1_pd(std::numeric_limits<double>::infinity());
+  const __m128d sign = _mm_set1_pd(-0.0);
+  for (; k + 2 <= n; k += 2) {
+    const __m128d root = _mm_sqrt_pd(_mm_loadu_pd(g2 + k));
+    const __m128d c = carried ? _mm_loadu_pd(carried + k) : _mm_setzero_pd();
+    const __m128d l = _mm_max_pd(c, root);
+    // |x| < inf: false for infinities and NaN.
+    const __m128d finite = _mm_and_pd(_mm_cmplt_pd(_mm_andnot_pd(sign, l), inf),
+                                      _mm_cmplt_pd(_mm_andnot_pd(sign, _mm_loadu_pd(lower + k)), inf));
+    _mm_storeu_pd(out + k, _mm_and_pd(finite, l));
+  }
+#endif
+  for (; k < n; ++k) {
+    const double l = std::max(std::sqrt(g2[k]), carried ? carried[k] : 0.0);
+    out[k] = std::isfinite(l) && std::isfinite(lower[k]) ? l : 0.0;
+  }
+}
+
 Box terrain_root_box(const Heightfield& terrain) {
   double lo[3], hi[3];
   terrain.block_box(static_cast<int>(terrain.levels().size()) - 1, 0, 0, lo, hi);
@@ -721,7 +752,8 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // Separations the seed's state proved, less how far each pair's parts
   // can have moved since: still lower bounds on the pairs' distances here.
   // Pairs on a dug terrain copy are not carried (the ground itself moves).
-  auto cacheable = [&](std::size_t k) { return pairs_[k].b != terrain_index_ || terrain == terrain_.get(); };
+  const bool terrain_cacheable = terrain == terrain_.get();
+  auto cacheable = [&](std::size_t k) { return terrain_cacheable || pairs_[k].b != terrain_index_; };
   static const std::vector<std::uint32_t> kNoKept;  // the terrain's triangles are its own
   std::vector<double>& carried = scratch.separation;
   // A collision-only check proves nothing beyond box gaps, which are cheaper
@@ -731,16 +763,19 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   const bool carry =
       request.distance && seed && seed->separation.size() == pairs_.size() && seed->at.size() == params.size();
   if (carry) {
-    carried.assign(pairs_.size(), 0.0);
+    carried.resize(pairs_.size());
     std::vector<double>& motion = scratch.motion;
     motion.assign(names_.size(), 0.0);
     for (std::size_t i = 0; i < n; ++i)
       if (chain_of_[i] >= 0) motion[i] = motion_.part_bound(static_cast<int>(i), seed->at, params);
+    // Every pair written, without a branch on what it carries (states far
+    // apart carry nothing on most pairs, which a branch mispredicts).
+    const double* const separation = seed->separation.data();
+    double* const carried_at = carried.data();
     for (std::size_t k = 0; k < pairs_.size(); ++k) {
-      if (!cacheable(k)) continue;
       const double m = motion[static_cast<std::size_t>(pairs_[k].a)] + motion[static_cast<std::size_t>(pairs_[k].b)];
-      const double c = seed->separation[k] - m;
-      if (c > 0.0) carried[k] = c;  // NaN and infinite motion carry nothing
+      const double c = separation[k] - m;
+      carried_at[k] = c > 0.0 && cacheable(k) ? c : 0.0;  // NaN and infinite motion carry nothing
     }
   }
 
@@ -771,9 +806,21 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // have 138 pairs, most of them beyond the cutoff; this and the other cuts
   // of this loop took 2,000 verdict-only states from 0.0325 to 0.0312 s.)
   const bool lazy = verdict_only && !seed;
+  // Verdict-only with a seed, the same for each pair beyond far2 that
+  // carries nothing (its bound is its box gap): states far apart (a
+  // planner's samples written as a plan) carry nothing on most pairs. Such
+  // a pair's lower[k] stays 0 (a bound, and finite: nothing after the pair
+  // loop reads more of a pair outside `order`), its root joins the skipped
+  // pairs' minimum as the root of the least square, and what the state
+  // proves of it for the next is rooted after the loop with every pair's
+  // (prove_bounds). 2,000 random states of the default arm as one plan:
+  // this pair loop cost the plan path ~3k instructions a state more than
+  // the cold one's.
+  const bool lazy_seeded = verdict_only && seed;
   // (Below 1e-100 the square may be subnormal, rounded too coarsely.)
   const double far2 = start >= 1e-100 ? start * start * (1.0 + 1e-12) : std::numeric_limits<double>::infinity();
   double skipped = std::numeric_limits<double>::infinity();  // lazy: its square
+  double skipped_seeded2 = std::numeric_limits<double>::infinity();  // lazy_seeded: the least square of its pairs
   // A pair apart (box gap squared g2, lower bound l) in the distance search.
   auto place = [&](std::size_t k, double l, double g2) {
     if (!verdict_only || l < start)
@@ -933,7 +980,8 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   }
   const std::size_t visits = with_distance ? pair_count : touching_count;
   bool contact_done = false;  // the first contact is in, the rest need only their bounds
-  for (std::size_t v = 0; v < visits; ++v) {
+  std::size_t v = 0;  // (after the loop: the pair a first contact ended it at, else visits)
+  for (; v < visits; ++v) {
     const std::size_t k = with_distance ? v : touching[v];
     const auto [a, b, empty] = pairs_[k];
     const bool on_terrain = b == terrain_index_;
@@ -947,6 +995,10 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
     const double g2 = gap2[k];
     if (lazy && g2 > far2) {
       skipped = std::min(skipped, g2);
+      continue;
+    }
+    if (lazy_seeded && g2 > far2 && (!carry || carried[k] == 0.0)) {
+      skipped_seeded2 = std::min(skipped_seeded2, g2);
       continue;
     }
     // The box gap as a lower bound: a distance when distances are asked
@@ -999,13 +1051,23 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   // infinite bound) prove nothing.
   std::vector<double>& proven = carried;  // carried[k] is folded into lower[k] by now
   if (seed) {
+    // Every pair the loop visited (up to and with the one a first contact
+    // ended it at: with distances, v is that pair) gets its bound, the
+    // lazy_seeded ones' as the others'; the pairs after such a contact keep
+    // a lower bound of 0, which proves nothing.
+    const std::size_t visited = std::min(v + 1, pairs_.size());
     proven.resize(pairs_.size());
-    for (std::size_t k = 0; k < pairs_.size(); ++k)
-      proven[k] = std::isfinite(lower[k]) && cacheable(k) ? lower[k] : 0.0;
+    prove_bounds(gap2.data(), carry ? carried.data() : nullptr, lower.data(), proven.data(), visited);
+    std::fill(proven.begin() + static_cast<std::ptrdiff_t>(visited), proven.end(), 0.0);
+    if (!terrain_cacheable)
+      for (std::size_t k = 0; k < visited; ++k)
+        if (!cacheable(k)) proven[k] = 0.0;
   }
+  // (A swap, not a copy: the seed's former separations are not read after
+  // this, and the scratch's vector is rewritten before it is read again.)
   auto store_separations = [&] {
     if (!seed) return;
-    seed->separation.assign(proven.begin(), proven.end());
+    seed->separation.swap(proven);
     seed->at.assign(params.begin(), params.end());
   };
 
@@ -1018,7 +1080,8 @@ void Checker::check_pairs(const std::vector<double>& params, StateResult& out, c
   } else {
     // (The full check sorts them all, as it always has: the order among
     // equal bounds decides which of equally close pairs is reported.)
-    if (verdict_only && out.min_distance >= cutoff) beyond = std::min(beyond, lazy ? std::sqrt(skipped) : skipped);
+    if (verdict_only && out.min_distance >= cutoff)
+      beyond = std::min(beyond, std::min(lazy ? std::sqrt(skipped) : skipped, std::sqrt(skipped_seeded2)));
     sort_by_key(order, lower, scratch.last_order, scratch.in_order, scratch.sorted);
   }
   StateSeed hint;

@@ -202,6 +202,18 @@ struct StateSeed {
     DistanceResult result;
   };
   std::vector<Search> searches;
+
+  // Back to a fresh seed (as StateSeed{}: no pair, nothing carried, no
+  // search remembered), keeping the storage: verify_plans starts every run
+  // of a plan's states from nothing, and a fresh seed's first searches
+  // allocated (and filled) a Search per checked pair, ~400 bytes each.
+  void reset() {
+    pair = -1;
+    slot_a = slot_b = 0;
+    separation.clear();
+    at.clear();
+    for (Search& s : searches) s.valid = false;
+  }
 };
 
 class Progress;

@@ -6,6 +6,7 @@
 // memo emptied (bitwise), cold (within the tie tolerance), and pair by pair
 // (pose_parts + pair_distance: every pair searched exactly on its own).
 #include "src/checks/verify.h"
+#include "src/geometry/motion_bound.h"
 #include "src/scene/scene_loader.h"
 #include "support/fixtures.h"
 #include "support/sanitized.h"
@@ -173,6 +174,145 @@ TEST(PlanCoherence, ListingOnlyWhatTheReportShowsKeepsEverythingElse) {
     }
     EXPECT_GT(short_listed, 0u) << "regolith " << regolith;  // some listing was cut
   }
+}
+
+// verify_plans keeps one StateSeed per thread and reset()s it at the start
+// of each run of a plan's states, where it used to make a fresh one: a reset
+// seed must be a fresh seed (nothing carried, no pair, no search
+// remembered) and give every state the bits a fresh seed gives, in the
+// full, row and verdict-only requests, on walks with held joints, repeats
+// and jumps (incoherent states).
+TEST(PlanCoherence, AResetSeedIsAFreshSeed) {
+  const Scene scene = load_scene(kDataset / "scene.json");
+  const Checker checker(scene);
+  std::mt19937_64 rng(20261202);
+  const int runs = testing::case_count(10, 3);
+  const std::vector<CheckRequest> requests{CheckRequest{}, row_request(), verdict_only_request(scene.safety_margin)};
+  for (std::size_t q = 0; q < requests.size(); ++q) {
+    StateSeed reused;
+    for (int run = 0; run < runs; ++run) {
+      const auto walk = held_walk(scene, rng, 20);
+      reused.reset();
+      EXPECT_EQ(reused.pair, -1);
+      EXPECT_TRUE(reused.separation.empty());
+      EXPECT_TRUE(reused.at.empty());
+      for (const StateSeed::Search& m : reused.searches) ASSERT_FALSE(m.valid);
+      StateSeed fresh;
+      for (std::size_t s = 0; s < walk.size(); ++s) {
+        const std::string at = "request " + std::to_string(q) + " run " + std::to_string(run) + " state " + std::to_string(s);
+        StateResult got, want;
+        checker.check_state(walk[s], got, requests[q], &reused);
+        checker.check_state(walk[s], want, requests[q], &fresh);
+        expect_same_bits(got, want, at);
+        // What each carries to the next state, bitwise.
+        ASSERT_EQ(reused.pair, fresh.pair) << at;
+        ASSERT_EQ(reused.separation.size(), fresh.separation.size()) << at;
+        for (std::size_t k = 0; k < fresh.separation.size(); ++k)
+          ASSERT_TRUE(same_bits(reused.separation[k], fresh.separation[k])) << at << " pair " << k;
+        if (::testing::Test::HasFatalFailure()) return;
+      }
+    }
+  }
+}
+
+// The plan path against cold checks on random states written as one plan
+// (a seed from a state far away carries nothing that changes a verdict):
+// each state's verdict, collision and first contact as the cold batch's,
+// and a verdict-only state's distance (exact or a bound) never above the
+// cold one's exact distance by more than the tie tolerance.
+TEST(PlanCoherence, RandomStatesAsOnePlanKeepTheColdVerdicts) {
+  const Scene scene = load_scene(kDataset / "scene.json");
+  const Checker checker(scene);
+  std::mt19937_64 rng(1202);
+  Plan plan;
+  plan.name = "random";
+  for (int i = 0; i < testing::case_count(200, 48); ++i) plan.states.push_back(testing::random_state(scene, rng, 0.0));
+  const std::vector<Plan> plans{plan};
+  for (const bool verdict_only : {false, true}) {
+    VerifyOptions o{1, false, false};
+    o.verdict_only = verdict_only;
+    o.listed_collisions = kMaxCollisionStatesListed;
+    const auto results = verify_plans(checker, scene, plans, o);
+    ASSERT_EQ(results[0].states.size(), plan.states.size());
+    for (std::size_t s = 0; s < plan.states.size(); ++s) {
+      const std::string at = std::string(verdict_only ? "verdict-only" : "full") + " state " + std::to_string(s);
+      StateResult cold;
+      checker.check_state(plan.states[s], cold);
+      const StateResult& got = results[0].states[s];
+      ASSERT_EQ(state_verdict(got, scene.safety_margin), state_verdict(cold, scene.safety_margin)) << at;
+      ASSERT_EQ(got.collision, cold.collision) << at;
+      if (got.collision) {
+        ASSERT_FALSE(got.contacts.empty()) << at;
+        EXPECT_EQ(got.contacts[0].part_a, cold.contacts[0].part_a) << at;
+        EXPECT_EQ(got.contacts[0].part_b, cold.contacts[0].part_b) << at;
+      } else if (got.distance_is_bound) {
+        EXPECT_LE(got.min_distance, cold.min_distance + 2 * kDistanceTieTolerance) << at;
+      } else {
+        EXPECT_NEAR(got.min_distance, cold.min_distance, 2 * kDistanceTieTolerance) << at;
+      }
+    }
+  }
+}
+
+// What a verdict-only state proves for the next (StateSeed::separation)
+// on walks with held joints, repeats and jumps: on every pair of a state
+// without contact, at least the pair's box gap and at least what the
+// previous state's separation less both parts' motion bound carries (the
+// plan path roots the gaps of the pairs beyond the cutoff after its pair
+// loop: left out, or the carried part dropped, these fail), and never more
+// than the pair's exact distance (every pair searched on its own).
+TEST(PlanCoherence, VerdictOnlySeparationsAreTheGapsAndCarriedBounds) {
+  const Scene scene = load_scene(kDataset / "scene.json");
+  const Checker checker(scene);
+  const MotionBound motion(scene);
+  const auto pairs = checker.pairs();
+  const CheckRequest request = verdict_only_request(scene.safety_margin);
+  std::mt19937_64 rng(20261203);
+  std::size_t states = 0, above_gap = 0, carried_seen = 0;
+  for (int run = 0; run < testing::case_count(8, 2); ++run) {
+    const auto walk = held_walk(scene, rng, 24);
+    StateSeed seed;
+    for (std::size_t s = 0; s < walk.size(); ++s) {
+      const std::string at = "run " + std::to_string(run) + " state " + std::to_string(s);
+      const std::vector<double> before = seed.separation;
+      const std::vector<double> before_at = seed.at;
+      StateResult r;
+      checker.check_state(walk[s], r, request, &seed);
+      ASSERT_EQ(seed.separation.size(), pairs.size()) << at;
+      if (r.collision) continue;
+      PosedParts posed;
+      checker.pose_parts(walk[s], posed);
+      std::vector<double> gap, guard;
+      checker.pair_gaps(posed, gap, guard);
+      for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const double sep = seed.separation[k];
+        if (std::isfinite(gap[k])) {
+          EXPECT_GE(sep, gap[k]) << at << " pair " << k;
+        }
+        above_gap += sep > gap[k];
+        if (!before.empty()) {
+          const double m = motion.part_bound(pairs[k].first, before_at, walk[s]) +
+                           motion.part_bound(pairs[k].second, before_at, walk[s]);
+          const double carried = before[k] - m;
+          if (carried > 0.0 && std::isfinite(gap[k])) {
+            EXPECT_GE(sep, carried) << at << " pair " << k;
+            carried_seen += carried > gap[k];
+          }
+        }
+        if (s % 6 == 0 && sep > 0.0) {
+          PairAnswer a;
+          checker.pair_distance(posed, k, std::numeric_limits<double>::infinity(), a);
+          ASSERT_TRUE(a.exact) << at << " pair " << k;
+          EXPECT_LE(sep, a.distance) << at << " pair " << k;
+        }
+      }
+      if (::testing::Test::HasFailure()) return;
+      ++states;
+    }
+  }
+  EXPECT_GT(states, 20u);
+  EXPECT_GT(above_gap, 0u);      // some pairs searched or carried beyond their gap
+  EXPECT_GT(carried_seen, 0u);   // and some carried beyond it
 }
 
 }  // namespace
