@@ -253,22 +253,27 @@ void expect_same_state(const StateResult& x, const StateResult& y, const char* w
   EXPECT_EQ(x.point_a, y.point_a);
   EXPECT_EQ(x.point_b, y.point_b);
 }
+// Every field of two motion checks, the bound bit for bit (NaN included).
+void expect_same_checked(const Checked& x, const Checked& y) {
+  EXPECT_EQ(kind(x.g), kind(y.g));
+  EXPECT_EQ(std::memcmp(&x.g.lower_bound, &y.g.lower_bound, sizeof(double)), 0)
+      << x.g.lower_bound << " " << y.g.lower_bound;
+  EXPECT_EQ(x.g.min_sampled, y.g.min_sampled);
+  EXPECT_EQ(x.g.witness_t, y.g.witness_t);
+  EXPECT_EQ(x.g.part_a, y.g.part_a);
+  EXPECT_EQ(x.g.part_b, y.g.part_b);
+  EXPECT_EQ(x.g.steps, y.g.steps);
+  EXPECT_EQ(x.g.unresolved, y.g.unresolved);
+  EXPECT_EQ(x.until, y.until);
+  expect_same_state(x.sa, y.sa, "from");
+  expect_same_state(x.sb, y.sb, "to");
+}
 void expect_same_as_cold(const SegmentChecker& seg, const std::vector<double>& qa, const std::vector<double>& qb,
                          bool verdict_only) {
   const Checked warm = check_motion_on(seg, qa, qb, verdict_only);
   Checked cold;
   std::thread([&] { cold = check_motion_on(seg, qa, qb, verdict_only); }).join();
-  EXPECT_EQ(kind(warm.g), kind(cold.g));
-  EXPECT_EQ(warm.g.lower_bound, cold.g.lower_bound);
-  EXPECT_EQ(warm.g.min_sampled, cold.g.min_sampled);
-  EXPECT_EQ(warm.g.witness_t, cold.g.witness_t);
-  EXPECT_EQ(warm.g.part_a, cold.g.part_a);
-  EXPECT_EQ(warm.g.part_b, cold.g.part_b);
-  EXPECT_EQ(warm.g.steps, cold.g.steps);
-  EXPECT_EQ(warm.g.unresolved, cold.g.unresolved);
-  EXPECT_EQ(warm.until, cold.until);
-  expect_same_state(warm.sa, cold.sa, "from");
-  expect_same_state(warm.sb, cold.sb, "to");
+  expect_same_checked(warm, cold);
 }
 
 TEST(ContinuousReference, MotionsSharingEndsEqualColdOnes) {
@@ -407,21 +412,7 @@ void threads_equal_one(bool urdf, int count, std::size_t max_steps) {
       };
       const Checked one = on_thread(1);
       if (mode == 0) ++kinds[kind(one.g)], unresolved += one.g.unresolved;
-      for (int threads : {2, 4}) {
-        const Checked many = on_thread(threads);
-        expect_same_state(many.sa, one.sa, "from");
-        expect_same_state(many.sb, one.sb, "to");
-        EXPECT_EQ(kind(many.g), kind(one.g));
-        EXPECT_EQ(std::memcmp(&many.g.lower_bound, &one.g.lower_bound, sizeof(double)), 0)
-            << many.g.lower_bound << " " << one.g.lower_bound;
-        EXPECT_EQ(many.g.min_sampled, one.g.min_sampled);
-        EXPECT_EQ(many.g.witness_t, one.g.witness_t);
-        EXPECT_EQ(many.g.part_a, one.g.part_a);
-        EXPECT_EQ(many.g.part_b, one.g.part_b);
-        EXPECT_EQ(many.g.steps, one.g.steps);
-        EXPECT_EQ(many.g.unresolved, one.g.unresolved);
-        EXPECT_EQ(many.until, one.until);
-      }
+      for (int threads : {2, 4}) expect_same_checked(on_thread(threads), one);
     }
   }
   std::printf("[ %s ] %d motions: %d safe, %d clearance, %d collision, %d unresolved (budget %zu)\n",

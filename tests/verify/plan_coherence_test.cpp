@@ -120,6 +120,15 @@ TEST(PlanCoherence, RepeatedSearchesGiveTheBitsOfAFreshSearch) {
   EXPECT_GT(remembered, 0u);
 }
 
+// `count` random states of the scene (within its limits) as one plan.
+Plan random_plan(const Scene& scene, std::uint64_t seed, int count) {
+  std::mt19937_64 rng(seed);
+  Plan plan;
+  plan.name = "random";
+  for (int i = 0; i < count; ++i) plan.states.push_back(testing::random_state(scene, rng, 0.0));
+  return plan;
+}
+
 // verify_plans lists every contact with its triangle pairs only for the
 // first listed_collisions colliding states of a plan (what report.json
 // shows); the rest keep the first contact's first triangle pair. Against the
@@ -129,10 +138,7 @@ TEST(PlanCoherence, RepeatedSearchesGiveTheBitsOfAFreshSearch) {
 TEST(PlanCoherence, ListingOnlyWhatTheReportShowsKeepsEverythingElse) {
   const Scene scene = load_scene(kDataset / "scene.json");
   const Checker checker(scene);
-  std::mt19937_64 rng(33);
-  Plan plan;
-  plan.name = "random";
-  for (int i = 0; i < testing::case_count(160, 40); ++i) plan.states.push_back(testing::random_state(scene, rng, 0.0));
+  const Plan plan = random_plan(scene, 33, testing::case_count(160, 40));
   const std::vector<Plan> plans{plan, plan};
   for (const bool regolith : {false, true}) {
     VerifyOptions all{2, false, regolith};
@@ -223,10 +229,7 @@ TEST(PlanCoherence, AResetSeedIsAFreshSeed) {
 TEST(PlanCoherence, RandomStatesAsOnePlanKeepTheColdVerdicts) {
   const Scene scene = load_scene(kDataset / "scene.json");
   const Checker checker(scene);
-  std::mt19937_64 rng(1202);
-  Plan plan;
-  plan.name = "random";
-  for (int i = 0; i < testing::case_count(200, 48); ++i) plan.states.push_back(testing::random_state(scene, rng, 0.0));
+  const Plan plan = random_plan(scene, 1202, testing::case_count(200, 48));
   const std::vector<Plan> plans{plan};
   for (const bool verdict_only : {false, true}) {
     VerifyOptions o{1, false, false};
