@@ -678,7 +678,14 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   // One pass against `target` (as the reference's certify): the witness of
   // least t found, or nothing when every pair is certified on the whole
   // segment (or the budget ran out: gave_up); `lower` gets the least bound.
+  // Pairs [0, reused_count) of the first pass as a parallel attempt
+  // marched them, which the serial pass would have marched the same way
+  // (certify_parallel says when).
+  std::vector<March> reused;
+  std::size_t reused_count = 0;
   auto certify = [&](double target, double limit, bool contact, double& lower) -> std::optional<Witness> {
+    const std::size_t reuse = reused_count;
+    reused_count = 0;
     for (const Sample* e : {&end0, &end1})
       if ((contact && e->collision) || e->d < limit) return Witness{e->t, e->a, e->b};
     std::optional<Witness> best;
@@ -688,8 +695,11 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
       const auto [a, b] = pairs_[k];
       // A pair marches no further than the least witness found so far.
       March m;
-      march(k, target, limit, best ? best->t : 2.0, serial, m,
-            [&](std::size_t local) { return out.steps + local < options_.max_steps; });
+      if (k < reuse)
+        m = reused[k];
+      else
+        march(k, target, limit, best ? best->t : 2.0, serial, m,
+              [&](std::size_t local) { return out.steps + local < options_.max_steps; });
       out.steps += m.steps;
       lower = std::min(lower, m.lower);
       note_sample(m.min_d, m.min_a, m.min_b);
@@ -749,6 +759,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     if (sampled.size() < std::max<std::size_t>(2, options_.parallel_pairs)) return false;
     const std::vector<PairData> kept = pd;
     std::vector<March> marches(np);
+    std::vector<char> marched(np, 0);
     std::atomic<bool> stop{false};
     std::atomic<std::size_t> total{0};
     const int workers = threads > 0 ? threads : hardware_threads();
@@ -764,12 +775,13 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
           return !stop.load(std::memory_order_relaxed) &&
                  total.load(std::memory_order_relaxed) + local < options_.max_steps;
         });
+        marched[k] = 1;
         total.fetch_add(m.steps, std::memory_order_relaxed);
         if (m.witness || m.budget) stop.store(true, std::memory_order_relaxed);
       }
     });
-    if (!stop.load()) {
-      // The rest: one piece each, certified (no sample).
+    // The rest: one piece each, certified (no sample), here.
+    {
       std::size_t next = 0;
       for (std::size_t k = 0; k < np; ++k) {
         if (next < sampled.size() && sampled[next] == k) {
@@ -777,13 +789,28 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
           continue;
         }
         if (pd[k].live) march(k, target, limit, 2.0, serial, marches[k], [](std::size_t) { return false; });
-        if (marches[k].budget) stop.store(true);  // (never: their one piece is certified)
+        marched[k] = 1;
       }
     }
-    std::size_t steps = 0;
-    for (const March& m : marches) steps += m.steps;
-    if (stop.load() || !(out.steps + steps < options_.max_steps)) {
-      pd = kept;
+    // The serial pass marches pair k with no witness to stop at while no
+    // pair before it found one: as here. So the pairs up to the first that
+    // found a witness (it included), all marched to their end here and
+    // within the budget as the serial pass counts it, are the serial
+    // pass's; it takes them and goes on from there (the later pairs' seeds
+    // put back). All of them, none with a witness: the pass is done.
+    std::size_t prefix = 0, running = out.steps;
+    bool witness = false;
+    for (; prefix < np && !witness; ++prefix) {
+      const March& m = marches[prefix];
+      if (!pd[prefix].live) continue;
+      if (!marched[prefix] || m.budget || !(running + m.steps < options_.max_steps)) break;
+      running += m.steps;
+      witness = m.witness;
+    }
+    if (prefix < np || witness) {
+      for (std::size_t k = prefix; k < np; ++k) pd[k] = kept[k];
+      reused = std::move(marches);
+      reused_count = prefix;
       return false;
     }
     for (std::size_t k = 0; k < np; ++k) {
