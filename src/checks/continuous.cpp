@@ -568,7 +568,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   auto march = [&](std::size_t k, double target, double limit, double stop, Scratch& s, March& m,
                    auto&& may_sample) {
     PairData& p = pd[k];
-    const auto [a, b] = pairs_[k];
+    const int a = pairs_[k].first, b = pairs_[k].second;  // (not a binding: the lambdas below capture them)
     const double rate = p.rate;
     const double va = std::max(p.gap_a, floor_a), vb = std::max(p.gap_b, floor_b);
     Point& cur = m.cur;
