@@ -140,6 +140,30 @@ class SegmentChecker {
   double end_limit(const std::vector<double>& bounds) const;
   // The distance a violation witness lies below: the first pass's.
   double first_limit() const;
+  // Per pair k of one segment, a rate for the march from the poses
+  // themselves: twice the two parts' BoxMotion reach from the segment's
+  // midpoint over the box qa and qb span. Along the straight motion every
+  // point of a part moves at most sum_i |qb_i - qa_i| L_i per unit of t,
+  // L_i bounding its lever about action i anywhere in that box, and
+  // BoxMotion's reach is sum_i h_i L_i with h_i = |qb_i - qa_i| / 2 from
+  // the midpoint: so twice the reach bounds the path over every piece
+  // [ta, tb] by its share (tb - ta), as MotionBound::pair_bound does with
+  // levers read for any pose (an arm folded back counted as stretched
+  // out). Each part's reach is computed when a pair first asks for it.
+  class PoseRates {
+   public:
+    PoseRates(const SegmentChecker& segments, const std::vector<double>& qa, const std::vector<double>& qb);
+    double of(std::size_t k);
+
+   private:
+    double part(int x);
+    const SegmentChecker& segments_;
+    const std::vector<double>& qa_;
+    const std::vector<double>& qb_;
+    bool ready_ = false;
+    const BoxMotion* box_ = nullptr;
+    std::vector<double> lo_, hi_, mid_, reach_;  // reach_: -1 not yet
+  };
 
   const Checker& checker_;
   const MotionBound& bound_;  // the checker's

@@ -455,6 +455,12 @@ void Checker::set_gap_rows() {
   }
 }
 
+const BoxMotion& Checker::box_motion() const {
+  LazyBoxMotion& lazy = *box_motion_;
+  std::call_once(lazy.once, [&] { lazy.box = std::make_unique<const BoxMotion>(scene_, BoxMotion::Points::kVertices); });
+  return *lazy.box;
+}
+
 std::unique_ptr<const Checker> Checker::with_placement(int part, const Affine& placement) const {
   const std::size_t p = static_cast<std::size_t>(part);
   if (part < 0 || p >= scene_.parts.size() || chain_of_[p] >= 0 ||

@@ -8,6 +8,7 @@
 #include "src/geometry/collision_model.h"
 #include "src/checks/dig.h"
 #include "src/geometry/heightfield.h"
+#include "src/geometry/box_motion.h"
 #include "src/geometry/motion_bound.h"
 #include "src/checks/probes.h"
 #include "src/scene/plan.h"
@@ -17,6 +18,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -488,6 +490,13 @@ class Checker {
   std::vector<Affine> placement_;
   std::size_t left_out_ = 0;
   MotionBound motion_;  // how far parts can move between two states (cached separations)
+  // BoxMotion (box_motion()), built on first use; with_placement's copies
+  // share it (a static object's placement moves nothing it bounds).
+  struct LazyBoxMotion {
+    std::once_flag once;
+    std::unique_ptr<const BoxMotion> box;
+  };
+  std::shared_ptr<LazyBoxMotion> box_motion_ = std::make_shared<LazyBoxMotion>();
   // Built once with the collision structures, only when the scene needs them.
   std::shared_ptr<const Digger> digger_;        // scoop and terrain
   std::shared_ptr<const ProbeCaster> probes_;   // probes (an Embree scene)
@@ -497,6 +506,10 @@ class Checker {
   const Digger* digger() const { return digger_.get(); }
   // How far parts can move between two configurations (the scene's, built once).
   const MotionBound& motion_bound() const { return motion_; }
+  // Pose-aware bounds of the same (src/geometry/box_motion.h), built the
+  // first time they are asked for (about 2 ms on the default arm): the
+  // motion checks that sample a pair read them. Thread-safe.
+  const BoxMotion& box_motion() const;
   double safety_margin() const { return scene_.safety_margin; }
   const ProbeCaster* probe_caster() const { return probes_.get(); }
 };

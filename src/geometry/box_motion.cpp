@@ -43,7 +43,7 @@ void split(std::vector<Vec3>& v, std::size_t from, std::size_t to, int depth, st
 
 }  // namespace
 
-BoxMotion::BoxMotion(const Scene& scene) : scene_(scene), fallback_(scene) {
+BoxMotion::BoxMotion(const Scene& scene, Points points) : scene_(scene), fallback_(scene) {
   parts_.resize(scene.parts.size());
   for (std::size_t i = 0; i < scene.parts.size(); ++i) {
     const Part& part = scene.parts[i];
@@ -52,9 +52,19 @@ BoxMotion::BoxMotion(const Scene& scene) : scene_(scene), fallback_(scene) {
     for (int a : part.chain)
       if (scene.actions[static_cast<std::size_t>(a)].type == ActionType::kScale) d.rigid = false;
     std::vector<Vec3> v;
-    v.reserve(part.mesh.triangles.size() * 3);
-    for (const Tri& t : part.mesh.triangles)
-      for (std::uint32_t k : t) v.push_back(part.mesh.vertices[k]);
+    if (points == Points::kCorners) {
+      v.reserve(part.mesh.triangles.size() * 3);
+      for (const Tri& t : part.mesh.triangles)
+        for (std::uint32_t k : t) v.push_back(part.mesh.vertices[k]);
+    } else {
+      // A bound on every vertex of a triangle bounds all of it (a rigid
+      // motion's displacement is affine in the point, its length convex).
+      std::vector<char> used(part.mesh.vertices.size(), 0);
+      for (const Tri& t : part.mesh.triangles)
+        for (std::uint32_t k : t) used[k] = 1;
+      for (std::size_t k = 0; k < used.size(); ++k)
+        if (used[k]) v.push_back(part.mesh.vertices[k]);
+    }
     std::vector<std::pair<std::size_t, std::size_t>> ranges;
     split(v, 0, v.size(), kSplits, ranges);
     const Action& inner = scene.actions[static_cast<std::size_t>(part.chain.back())];

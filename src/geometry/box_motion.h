@@ -31,7 +31,12 @@ namespace plancheck {
 
 class BoxMotion {
  public:
-  explicit BoxMotion(const Scene& scene);
+  // The clusters are built from every triangle's corners (kCorners, as the
+  // sweep's certifier has them) or from each referenced vertex once
+  // (kVertices: the same kind of bound, several times quicker to build;
+  // the clusters, and so the bounds, differ a little).
+  enum class Points { kCorners, kVertices };
+  explicit BoxMotion(const Scene& scene, Points points = Points::kCorners);
 
   // An upper bound (m) on |p(q, x) - p(c, x)| for every point x of `part`
   // and every q with lo <= q <= hi componentwise (full parameter vectors;

@@ -3,8 +3,12 @@
 // translations, no vertex posed anywhere in a random box (its corners first,
 // then random points) is farther than the bound from where it is at a random
 // point c of the box; the samples come within half of the bound, so a
-// halved bound fails.
+// halved bound fails. Twice the reach from a straight motion's midpoint is
+// a rate: no vertex moves farther between two points of the motion than
+// that rate times their share of it (the continuous check's march,
+// src/checks/continuous.h PoseRates), for both kinds of clusters.
 #include "src/geometry/box_motion.h"
+#include "src/scene/plan.h"
 #include "src/scene/kinematics.h"
 #include "support/random_chain.h"
 
@@ -69,6 +73,69 @@ TEST(BoxMotion, NoVertexMovesFartherThanTheBound) {
 }
 
 TEST(BoxMotion, AHalvedBoundFails) { EXPECT_FALSE(holds_everywhere(0.5)); }
+
+// Along random straight motions qa -> qb (the box they span, its centre
+// the midpoint), no vertex moves between q(t1) and q(t2) farther than
+// scale * 2 reach * (t2 - t1): whole motions, halves, short pieces
+// anywhere and pieces at the ends.
+bool rate_holds(double scale, BoxMotion::Points points, double* tightest = nullptr) {
+  std::mt19937_64 rng(20261202);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double worst = 0.0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Scene scene = testing::random_chain_scene(rng, /*scales=*/trial % 3 == 0);
+    const BoxMotion bound(scene, points);
+    const std::size_t p = scene.reference_parameters.size();
+    std::vector<double> qa(p), qb(p), lo(p), hi(p), mid(p);
+    for (const Action& a : scene.actions)
+      for (int k = 0; k < a.parameter_count; ++k) {
+        const std::size_t i = static_cast<std::size_t>(a.first_parameter + k);
+        // Motions from a hair to about two radians (or metres) long.
+        const double length = 2.0 * std::pow(10.0, -3.0 * u(rng)) / a.unit_to_si;
+        qa[i] = (u(rng) * 8.0 - 4.0) / a.unit_to_si;
+        qb[i] = qa[i] + (u(rng) < 0.5 ? -length : length) * (rng() % 4 == 0 ? 0.0 : 1.0);
+        lo[i] = std::min(qa[i], qb[i]);
+        hi[i] = std::max(qa[i], qb[i]);
+        mid[i] = std::clamp(qa[i] + 0.5 * (qb[i] - qa[i]), lo[i], hi[i]);
+      }
+    const double rate = scale * 2.0 * bound.reach(0, lo, hi, mid);
+    std::vector<double> x, y;
+    for (int s = 0; s < 60; ++s) {
+      double t1 = u(rng), t2 = u(rng);
+      if (s == 0) t1 = 0.0, t2 = 1.0;
+      if (s == 1) t1 = 0.0, t2 = 0.5;
+      if (s % 4 == 2) t2 = t1 + 1e-3 * u(rng);
+      if (s % 4 == 3) t1 = 0.0, t2 = 0.05 * u(rng);
+      if (t2 < t1) std::swap(t1, t2);
+      t2 = std::min(t2, 1.0);
+      if (!(t2 > t1)) continue;
+      state_between(qa, qb, t1, x);
+      state_between(qa, qb, t2, y);
+      const double d = moved(scene, x, y);
+      // Plus the rounding of two poses (vertices within metres: 1e-14 m)
+      // and of the parameters state_between gives (a few ulps each, times
+      // a lever of metres); the march's guards hold far more.
+      const double m = rate * (t2 - t1);
+      if (d > m + 1e-12) return false;
+      if (m > 0.0) worst = std::max(worst, d / m);
+    }
+  }
+  if (tightest) *tightest = worst;
+  return true;
+}
+
+TEST(BoxMotion, TwiceTheReachFromTheMidpointIsARateAlongTheMotion) {
+  for (const BoxMotion::Points points : {BoxMotion::Points::kCorners, BoxMotion::Points::kVertices}) {
+    double tightest = 0.0;
+    EXPECT_TRUE(rate_holds(1.0, points, &tightest));
+    EXPECT_GT(tightest, 0.5);
+  }
+}
+
+TEST(BoxMotion, HalfTheRateFails) {
+  EXPECT_FALSE(rate_holds(0.5, BoxMotion::Points::kCorners));
+  EXPECT_FALSE(rate_holds(0.5, BoxMotion::Points::kVertices));
+}
 
 }  // namespace
 }  // namespace plancheck
