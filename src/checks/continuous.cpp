@@ -156,12 +156,13 @@ SegmentResult SegmentChecker::check_reference(const std::vector<double>& qa, con
 }
 
 SegmentChecker::PoseRates::PoseRates(const SegmentChecker& segments, const std::vector<double>& qa,
-                                     const std::vector<double>& qb)
-    : segments_(segments), qa_(qa), qb_(qb) {}
+                                     const std::vector<double>& qb, const PosedParts& posed)
+    : segments_(segments), qa_(qa), qb_(qb), posed_(posed) {}
 
-double SegmentChecker::PoseRates::part(int x) {
+const SegmentChecker::PoseRates::PartMove& SegmentChecker::PoseRates::part(int x) {
+  static const PartMove kStill{};
   const Checker& checker = segments_.checker_;
-  if (x < 0 || static_cast<std::size_t>(x) >= checker.part_count()) return 0.0;  // the terrain
+  if (x < 0 || static_cast<std::size_t>(x) >= checker.part_count()) return kStill;  // the terrain
   if (!ready_) {
     box_ = &checker.box_motion();  // built the first time a segment asks
     lo_.resize(qa_.size());
@@ -172,20 +173,64 @@ double SegmentChecker::PoseRates::part(int x) {
       hi_[i] = std::max(qa_[i], qb_[i]);
       mid_[i] = std::clamp(qa_[i] + 0.5 * (qb_[i] - qa_[i]), lo_[i], hi_[i]);
     }
-    reach_.assign(checker.part_count(), -1.0);
+    parts_.assign(checker.part_count(), PartMove{});
     ready_ = true;
   }
-  double& r = reach_[static_cast<std::size_t>(x)];
-  if (r < 0.0) {
-    r = 2.0 * box_->reach(x, lo_, hi_, mid_);  // 0 for a static part
-    if (std::isnan(r)) r = std::numeric_limits<double>::infinity();
+  PartMove& m = parts_[static_cast<std::size_t>(x)];
+  if (!m.known) {
+    m.known = true;
+    m.balls = box_->balls(x, lo_, hi_, mid_, m.ball);
+    if (m.balls) {
+      m.reach = 0.0;
+      for (const BoxMotion::Ball& b : m.ball) m.reach = std::max(m.reach, b.move);
+    } else {
+      m.reach = box_->reach(x, lo_, hi_, mid_);  // 0 for a static part
+    }
+    if (std::isnan(m.reach)) m.reach = std::numeric_limits<double>::infinity();
   }
-  return r;
+  return m;
 }
 
-double SegmentChecker::PoseRates::of(std::size_t k) {
+SegmentChecker::PoseRates::Rate SegmentChecker::PoseRates::of(std::size_t k, double far_need) {
   const auto [a, b] = segments_.pairs_[k];
-  return part(a) + part(b);
+  const PartMove& ma = part(a);
+  const PartMove& mb = part(b);
+  Rate out;
+  out.rate = 2.0 * (ma.reach + mb.reach);
+  // One moving part against a static mesh: only the moving part's clusters
+  // that can come near the other's box count. Every point of a cluster
+  // lies within radius + move of its centre posed at the midpoint over the
+  // whole segment, so a cluster that far clear of the static box keeps its
+  // points at least that far from the static part; the pair's distance is
+  // then at least the least of the others' and that, and the others' moves
+  // bound how fast it can change.
+  const std::size_t n = segments_.checker_.part_count();
+  auto still = [&](int x) {
+    return x >= 0 && static_cast<std::size_t>(x) < n && x != segments_.checker_.terrain_index() &&
+           std::find(segments_.moving_.begin(), segments_.moving_.end(), x) == segments_.moving_.end();
+  };
+  const PartMove* moving = nullptr;
+  int other = -1;
+  if (ma.balls && still(b)) moving = &ma, other = b;
+  if (mb.balls && still(a)) moving = &mb, other = a;
+  if (!moving) return out;
+  const auto& [lo, hi] = posed_.box[static_cast<std::size_t>(other)];
+  double rate = 0.0, far = std::numeric_limits<double>::infinity();
+  for (const BoxMotion::Ball& ball : moving->ball) {
+    const Vec3 d = (lo - ball.centre).cwiseMax(ball.centre - hi).cwiseMax(Vec3::Zero());
+    const double reach = ball.radius + ball.move;
+    const double pad = 1e-9 * (ball.centre.cwiseAbs().maxCoeff() + reach + 1.0);
+    const double gap = d.norm() - reach - pad;
+    if (gap >= far_need)
+      far = std::min(far, gap);
+    else
+      rate = std::max(rate, 2.0 * ball.move);
+  }
+  if (rate < out.rate) {
+    out.rate = rate;
+    out.far = far;
+  }
+  return out;
 }
 
 double SegmentChecker::first_limit() const {
@@ -503,6 +548,10 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   // guards, and its closest triangles found so far.
   struct PairData {
     double rate = 0.0;
+    // With a rate from the moving part's clusters near the other part only
+    // (PoseRates): a lower bound, above the first pass's target, of the
+    // distance of the clusters left out, over the whole segment.
+    double far = std::numeric_limits<double>::infinity();
     double gap_a = 0.0, gap_b = 0.0, guard_a = kDistanceTolerance, guard_b = kDistanceTolerance;
     bool live = false;  // checked at all (not an empty part, not a missing terrain)
     bool seeded = false;
@@ -564,12 +613,20 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   // of threads; e_limit and the ends' floors stay the bounds'.
   {
     const double target = margin_ > 0.0 ? margin_ : 0.0;
-    PoseRates poses(*this, qa, qb);
+    PoseRates poses(*this, qa, qb, posed);
     for (std::size_t k = 0; k < np; ++k) {
       PairData& p = pd[k];
       const double va = std::max(p.gap_a, floor_a), vb = std::max(p.gap_b, floor_b);
-      const double room = va + vb - 2.0 * (target + std::max(p.guard_a, p.guard_b));
-      if (p.live && !(p.rate <= kTight * room)) p.rate = std::min(p.rate, poses.of(k) * (1.0 + 1e-12));
+      const double guard = std::max(p.guard_a, p.guard_b);
+      const double room = va + vb - 2.0 * (target + guard);
+      if (!p.live || p.rate <= kTight * room) continue;
+      // Clusters left out must stay a micrometre clear of what any piece
+      // asks (target plus its guard), so that they never hold up a piece.
+      const PoseRates::Rate r = poses.of(k, target + 4.0 * guard + 1e-6);
+      if (r.rate * (1.0 + 1e-12) < p.rate) {
+        p.rate = r.rate * (1.0 + 1e-12);
+        p.far = r.far;
+      }
     }
   }
 
@@ -590,8 +647,8 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   // at a witness at an end).
   double reached = 0.0;
   bool first_pass = true;
-  auto piece_bound = [&](const Point& x, const Point& y, double rate) {
-    return std::min({x.v, y.v, 0.5 * (x.v + y.v - rate * (y.t - x.t))});
+  auto piece_bound = [&](const Point& x, const Point& y, double rate, double far) {
+    return std::min({x.v, y.v, 0.5 * (x.v + y.v - rate * (y.t - x.t)), far});
   };
   // What one pair's march needs of its own (one per thread when pairs march
   // in parallel).
@@ -633,7 +690,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     while (!rights.empty() && cur.t < stop) {
       const Point& r = rights.back();
       const double g = std::max(cur.g, r.g);
-      const double lb = piece_bound(cur, r, rate);
+      const double lb = piece_bound(cur, r, rate, p.far);
       if (lb >= target + g) {
         m.lower = std::min(m.lower, lb);
         cur = r;
@@ -766,7 +823,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
         Point cur = m.cur;
         const std::vector<Point>& rights = serial.rights;
         for (std::size_t i = rights.size(); i-- > 0;) {
-          settle(piece_bound(cur, rights[i], pd[k].rate));
+          settle(piece_bound(cur, rights[i], pd[k].rate, pd[k].far));
           cur = rights[i];
         }
         until_here = std::min(until_here, rights.empty() ? cur.t : 0.0);
@@ -774,7 +831,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
           if (!pd[j].live) continue;
           const Point x{0.0, std::max(pd[j].gap_a, floor_a), pd[j].guard_a, 0.0};
           const Point y{1.0, std::max(pd[j].gap_b, floor_b), pd[j].guard_b, 0.0};
-          const double l = piece_bound(x, y, pd[j].rate);
+          const double l = piece_bound(x, y, pd[j].rate, pd[j].far);
           settle(l);
           if (!(l >= target + std::max(x.g, y.g))) until_here = 0.0;
         }
@@ -809,7 +866,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
       if (!p.live) continue;
       const Point x{0.0, std::max(p.gap_a, floor_a), p.guard_a, 0.0};
       const Point y{1.0, std::max(p.gap_b, floor_b), p.guard_b, 0.0};
-      if (!(piece_bound(x, y, p.rate) >= target + std::max(x.g, y.g))) sampled.push_back(k);
+      if (!(piece_bound(x, y, p.rate, p.far) >= target + std::max(x.g, y.g))) sampled.push_back(k);
     }
     if (sampled.size() < std::max<std::size_t>(2, options_.parallel_pairs)) return false;
     const std::vector<PairData> kept = pd;

@@ -26,6 +26,7 @@
 #include "src/checks/verify.h"
 
 #include <cstddef>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -152,17 +153,34 @@ class SegmentChecker {
   // out). Each part's reach is computed when a pair first asks for it.
   class PoseRates {
    public:
-    PoseRates(const SegmentChecker& segments, const std::vector<double>& qa, const std::vector<double>& qb);
-    double of(std::size_t k);
+    PoseRates(const SegmentChecker& segments, const std::vector<double>& qa, const std::vector<double>& qb,
+              const PosedParts& posed);
+    struct Rate {
+      double rate = 0.0;
+      // A lower bound of the distance of the clusters the rate leaves out
+      // (at least far_need), +infinity when none is.
+      double far = std::numeric_limits<double>::infinity();
+    };
+    // Pair k's rate; a moving part's cluster at least far_need clear of a
+    // static part's box over the whole segment is left out of it.
+    Rate of(std::size_t k, double far_need);
 
    private:
-    double part(int x);
+    struct PartMove {
+      bool known = false;
+      bool balls = false;  // ball holds the clusters (BoxMotion::balls)
+      std::vector<BoxMotion::Ball> ball;
+      double reach = 0.0;
+    };
+    const PartMove& part(int x);
     const SegmentChecker& segments_;
     const std::vector<double>& qa_;
     const std::vector<double>& qb_;
+    const PosedParts& posed_;
     bool ready_ = false;
     const BoxMotion* box_ = nullptr;
-    std::vector<double> lo_, hi_, mid_, reach_;  // reach_: -1 not yet
+    std::vector<double> lo_, hi_, mid_;
+    std::vector<PartMove> parts_;
   };
 
   const Checker& checker_;

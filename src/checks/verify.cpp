@@ -457,7 +457,7 @@ void Checker::set_gap_rows() {
 
 const BoxMotion& Checker::box_motion() const {
   LazyBoxMotion& lazy = *box_motion_;
-  std::call_once(lazy.once, [&] { lazy.box = std::make_unique<const BoxMotion>(scene_, BoxMotion::Points::kVertices); });
+  std::call_once(lazy.once, [&] { lazy.box = std::make_unique<const BoxMotion>(scene_, BoxMotion::Points::kTriangles); });
   return *lazy.box;
 }
 

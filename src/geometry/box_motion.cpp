@@ -21,24 +21,29 @@ double line_distance(const Vec3& x, const Vec3& p, const Vec3& u) {
   return n > 0.0 ? (x - p).cross(u).norm() / n : (x - p).norm();
 }
 
-void split(std::vector<Vec3>& v, std::size_t from, std::size_t to, int depth, std::vector<std::pair<std::size_t, std::size_t>>& out) {
-  if (depth == 0 || to - from < 16) {
+// Splits v[from, to) at the median of the longest side of its points'
+// box (point(x) of each element) down to `depth` levels or fewer than
+// `least` elements.
+template <class T, class Point>
+void split(std::vector<T>& v, std::size_t from, std::size_t to, int depth, std::size_t least, Point point,
+           std::vector<std::pair<std::size_t, std::size_t>>& out) {
+  if (depth == 0 || to - from < least) {
     out.push_back({from, to});
     return;
   }
-  Vec3 lo = v[from], hi = v[from];
+  Vec3 lo = point(v[from]), hi = point(v[from]);
   for (std::size_t i = from; i < to; ++i) {
-    lo = lo.cwiseMin(v[i]);
-    hi = hi.cwiseMax(v[i]);
+    lo = lo.cwiseMin(point(v[i]));
+    hi = hi.cwiseMax(point(v[i]));
   }
   int axis = 0;
   (hi - lo).maxCoeff(&axis);
   const std::size_t mid = from + (to - from) / 2;
   std::nth_element(v.begin() + static_cast<std::ptrdiff_t>(from), v.begin() + static_cast<std::ptrdiff_t>(mid),
                    v.begin() + static_cast<std::ptrdiff_t>(to),
-                   [axis](const Vec3& a, const Vec3& b) { return a[axis] < b[axis]; });
-  split(v, from, mid, depth - 1, out);
-  split(v, mid, to, depth - 1, out);
+                   [&](const T& a, const T& b) { return point(a)[axis] < point(b)[axis]; });
+  split(v, from, mid, depth - 1, least, point, out);
+  split(v, mid, to, depth - 1, least, point, out);
 }
 
 }  // namespace
@@ -51,40 +56,68 @@ BoxMotion::BoxMotion(const Scene& scene, Points points) : scene_(scene), fallbac
     if (!part.moving() || part.mesh.triangles.empty()) continue;
     for (int a : part.chain)
       if (scene.actions[static_cast<std::size_t>(a)].type == ActionType::kScale) d.rigid = false;
-    std::vector<Vec3> v;
-    if (points == Points::kCorners) {
-      v.reserve(part.mesh.triangles.size() * 3);
-      for (const Tri& t : part.mesh.triangles)
-        for (std::uint32_t k : t) v.push_back(part.mesh.vertices[k]);
-    } else {
-      // A bound on every vertex of a triangle bounds all of it (a rigid
-      // motion's displacement is affine in the point, its length convex).
-      std::vector<char> used(part.mesh.vertices.size(), 0);
-      for (const Tri& t : part.mesh.triangles)
-        for (std::uint32_t k : t) used[k] = 1;
-      for (std::size_t k = 0; k < used.size(); ++k)
-        if (used[k]) v.push_back(part.mesh.vertices[k]);
-    }
-    std::vector<std::pair<std::size_t, std::size_t>> ranges;
-    split(v, 0, v.size(), kSplits, ranges);
     const Action& inner = scene.actions[static_cast<std::size_t>(part.chain.back())];
-    for (const auto& [from, to] : ranges) {
-      Vec3 lo = v[from], hi = v[from];
-      for (std::size_t k = from; k < to; ++k) {
-        lo = lo.cwiseMin(v[k]);
-        hi = hi.cwiseMax(v[k]);
-      }
+    // One cluster's sphere and innermost arm over points v[from, to).
+    auto cluster = [&](auto&& each) {
+      Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+      each([&](const Vec3& x) {
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+      });
       Cluster c;
       c.centre = 0.5 * (lo + hi);
-      for (std::size_t k = from; k < to; ++k) {
-        c.radius = std::max(c.radius, (v[k] - c.centre).norm());
-        if (inner.type == ActionType::kRotate)
-          c.inner_arm = std::max(c.inner_arm, line_distance(v[k], inner.pivot, inner.axis));
-      }
+      each([&](const Vec3& x) {
+        c.radius = std::max(c.radius, (x - c.centre).norm());
+        if (inner.type == ActionType::kRotate) c.inner_arm = std::max(c.inner_arm, line_distance(x, inner.pivot, inner.axis));
+      });
       // Rounding of the two loops above: a relative pad far above it.
       c.radius = c.radius * (1.0 + 1e-12) + 1e-15;
       c.inner_arm = c.inner_arm * (1.0 + 1e-12) + 1e-15;
-      d.clusters.push_back(c);
+      return c;
+    };
+    std::vector<std::pair<std::size_t, std::size_t>> ranges;
+    if (points == Points::kCorners) {
+      std::vector<Vec3> v;
+      v.reserve(part.mesh.triangles.size() * 3);
+      for (const Tri& t : part.mesh.triangles)
+        for (std::uint32_t k : t) v.push_back(part.mesh.vertices[k]);
+      split(v, 0, v.size(), kSplits, 16, [](const Vec3& x) -> const Vec3& { return x; }, ranges);
+      for (const auto& range : ranges) {
+        const std::size_t from = range.first, to = range.second;  // (not a binding: the lambda captures them)
+        d.clusters.push_back(cluster([&](auto&& f) {
+          for (std::size_t k = from; k < to; ++k) f(v[k]);
+        }));
+      }
+    } else {
+      // Whole triangles, split by their centroids: each cluster's sphere
+      // holds every point of its triangles, not only their corners.
+      struct Piece {
+        Vec3 centroid;
+        std::uint32_t tri;
+      };
+      std::vector<Piece> v;
+      v.reserve(part.mesh.triangles.size());
+      for (std::uint32_t t = 0; t < part.mesh.triangles.size(); ++t) {
+        const Tri& tri = part.mesh.triangles[t];
+        v.push_back({(part.mesh.vertices[tri[0]] + part.mesh.vertices[tri[1]] + part.mesh.vertices[tri[2]]) / 3.0, t});
+      }
+      split(v, 0, v.size(), kSplits, 2, [](const Piece& x) -> const Vec3& { return x.centroid; }, ranges);
+      // Each cluster's corners once (a vertex is shared by several of its triangles).
+      std::vector<std::uint32_t> stamp(part.mesh.vertices.size(), 0), corners;
+      std::uint32_t n = 0;
+      for (const auto& range : ranges) {
+        ++n;
+        corners.clear();
+        for (std::size_t k = range.first; k < range.second; ++k)
+          for (std::uint32_t i : part.mesh.triangles[v[k].tri])
+            if (stamp[i] != n) {
+              stamp[i] = n;
+              corners.push_back(i);
+            }
+        d.clusters.push_back(cluster([&](auto&& f) {
+          for (std::uint32_t i : corners) f(part.mesh.vertices[i]);
+        }));
+      }
     }
   }
 }
@@ -175,6 +208,19 @@ double BoxMotion::Lever::point(const Vec3& x) const {
 double BoxMotion::reach(int part, std::span<const double> lo, std::span<const double> hi,
                         std::span<const double> c) const {
   return reach(part, lever(part, lo, hi, c));
+}
+
+bool BoxMotion::balls(int part, std::span<const double> lo, std::span<const double> hi, std::span<const double> c,
+                      std::vector<Ball>& out) const {
+  out.clear();
+  const Lever l = lever(part, lo, hi, c);
+  if (part < 0 || static_cast<std::size_t>(part) >= parts_.size()) return false;
+  const PartData& d = parts_[static_cast<std::size_t>(part)];
+  if (d.clusters.empty() || !d.rigid || !(l.fixed == -1.0 || l.fixed == 0.0)) return false;
+  const Affine t = part_transform(scene_, part, c);
+  for (const Cluster& cl : d.clusters)
+    out.push_back({t * cl.centre, cl.radius, l.fixed == 0.0 ? 0.0 : l.sphere(cl.centre, cl.radius, cl.inner_arm)});
+  return true;
 }
 
 double BoxMotion::reach(int part, const Lever& l) const {

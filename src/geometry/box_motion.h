@@ -32,10 +32,11 @@ namespace plancheck {
 class BoxMotion {
  public:
   // The clusters are built from every triangle's corners (kCorners, as the
-  // sweep's certifier has them) or from each referenced vertex once
-  // (kVertices: the same kind of bound, several times quicker to build;
-  // the clusters, and so the bounds, differ a little).
-  enum class Points { kCorners, kVertices };
+  // sweep's certifier has them) or from whole triangles (kTriangles: split
+  // by their centroids, each cluster's sphere holding every point of its
+  // triangles, so that balls() can say where a cluster is; quicker to
+  // build, the bounds a little different).
+  enum class Points { kCorners, kTriangles };
   explicit BoxMotion(const Scene& scene, Points points = Points::kCorners);
 
   // An upper bound (m) on |p(q, x) - p(c, x)| for every point x of `part`
@@ -70,6 +71,21 @@ class BoxMotion {
   Lever lever(int part, std::span<const double> lo, std::span<const double> hi, std::span<const double> c) const;
   // reach from the part's lever over the box.
   double reach(int part, const Lever& l) const;
+
+  // Per cluster of `part`: its sphere posed at c (world frame) and how far
+  // any point in it moves from there within the box (reach's bound for that
+  // cluster alone: the largest move is reach). With kTriangles every point
+  // of the part lies in some cluster's sphere at c, and within radius +
+  // move of its centre anywhere in the box. False (out empty) where reach
+  // has no clusters to go by (a static part, a chain with a scale action,
+  // a non-finite box).
+  struct Ball {
+    Vec3 centre = Vec3::Zero();
+    double radius = 0.0;
+    double move = 0.0;
+  };
+  bool balls(int part, std::span<const double> lo, std::span<const double> hi, std::span<const double> c,
+             std::vector<Ball>& out) const;
 
  private:
   struct Cluster {

@@ -6,7 +6,11 @@
 // halved bound fails. Twice the reach from a straight motion's midpoint is
 // a rate: no vertex moves farther between two points of the motion than
 // that rate times their share of it (the continuous check's march,
-// src/checks/continuous.h PoseRates), for both kinds of clusters.
+// src/checks/continuous.h PoseRates), for both kinds of clusters. The
+// balls of whole-triangle clusters hold every point of the part anywhere in
+// the box: each triangle's corners, midpoints and centroid lie within
+// radius + move of one ball's centre and move no farther than that ball's
+// move, and a ball made a hair smaller misses some.
 #include "src/geometry/box_motion.h"
 #include "src/scene/plan.h"
 #include "src/scene/kinematics.h"
@@ -125,16 +129,65 @@ bool rate_holds(double scale, BoxMotion::Points points, double* tightest = nullp
 }
 
 TEST(BoxMotion, TwiceTheReachFromTheMidpointIsARateAlongTheMotion) {
-  for (const BoxMotion::Points points : {BoxMotion::Points::kCorners, BoxMotion::Points::kVertices}) {
+  for (const BoxMotion::Points points : {BoxMotion::Points::kCorners, BoxMotion::Points::kTriangles}) {
     double tightest = 0.0;
     EXPECT_TRUE(rate_holds(1.0, points, &tightest));
     EXPECT_GT(tightest, 0.5);
   }
 }
 
+// Whether every sampled point of every triangle, posed at random q of a
+// random box, lies within shrink * (radius + move) of the centre of a ball
+// whose move (times shrink) bounds its displacement from c.
+bool balls_hold(double shrink) {
+  std::mt19937_64 rng(20261203);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 300; ++trial) {
+    const Scene scene = testing::random_chain_scene(rng, /*scales=*/false);
+    const BoxMotion bound(scene, BoxMotion::Points::kTriangles);
+    const std::size_t p = scene.reference_parameters.size();
+    std::vector<double> lo(p), hi(p), c(p);
+    for (const Action& a : scene.actions)
+      for (int k = 0; k < a.parameter_count; ++k) {
+        const std::size_t i = static_cast<std::size_t>(a.first_parameter + k);
+        const double width = std::pow(10.0, -3.0 * u(rng)) / a.unit_to_si;
+        lo[i] = (u(rng) * 8.0 - 4.0) / a.unit_to_si;
+        hi[i] = lo[i] + width * (rng() % 4 == 0 ? 0.0 : 1.0);
+        c[i] = lo[i] + u(rng) * (hi[i] - lo[i]);
+      }
+    std::vector<BoxMotion::Ball> balls;
+    if (!bound.balls(0, lo, hi, c, balls)) return false;  // rigid chains always have them
+    const Mesh& mesh = scene.parts[0].mesh;
+    const Affine tc = part_transform(scene, 0, c);
+    std::vector<double> q(p);
+    for (int s = 0; s < 40; ++s) {
+      for (std::size_t i = 0; i < p; ++i) q[i] = lo[i] + (s < 16 ? static_cast<double>((s >> (i % 4)) & 1) : u(rng)) * (hi[i] - lo[i]);
+      const Affine tq = part_transform(scene, 0, q);
+      for (const Tri& t : mesh.triangles) {
+        const Vec3 x = mesh.vertices[t[0]], y = mesh.vertices[t[1]], z = mesh.vertices[t[2]];
+        for (const Vec3& point : {x, y, z, Vec3(0.5 * (x + y)), Vec3(0.5 * (y + z)), Vec3(0.5 * (z + x)), Vec3((x + y + z) / 3.0)}) {
+          const Vec3 at = tq * point;
+          const double moved = (at - tc * point).norm();
+          bool held = false;
+          for (const BoxMotion::Ball& b : balls)
+            held = held || ((at - b.centre).norm() <= shrink * (b.radius + b.move) + 1e-12 &&
+                            moved <= shrink * b.move + 1e-12 && (tc * point - b.centre).norm() <= shrink * b.radius + 1e-12);
+          if (!held) return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+
+TEST(BoxMotion, EveryPointOfThePartStaysInOneOfItsBalls) {
+  EXPECT_TRUE(balls_hold(1.0));
+  EXPECT_FALSE(balls_hold(0.9));
+}
+
 TEST(BoxMotion, HalfTheRateFails) {
   EXPECT_FALSE(rate_holds(0.5, BoxMotion::Points::kCorners));
-  EXPECT_FALSE(rate_holds(0.5, BoxMotion::Points::kVertices));
+  EXPECT_FALSE(rate_holds(0.5, BoxMotion::Points::kTriangles));
 }
 
 }  // namespace
