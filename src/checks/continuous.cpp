@@ -197,16 +197,17 @@ SegmentChecker::PoseRates::Rate SegmentChecker::PoseRates::of(std::size_t k, dou
   const PartMove& mb = part(b);
   Rate out;
   out.rate = 2.0 * (ma.reach + mb.reach);
-  // One moving part against a static mesh: only the moving part's clusters
-  // that can come near the other's box count. Every point of a cluster
-  // lies within radius + move of its centre posed at the midpoint over the
-  // whole segment, so a cluster that far clear of the static box keeps its
-  // points at least that far from the static part; the pair's distance is
-  // then at least the least of the others' and that, and the others' moves
-  // bound how fast it can change.
-  const std::size_t n = segments_.checker_.part_count();
+  // One moving part against a static mesh or the terrain: only the moving
+  // part's clusters that can come near the other's box count. Every point
+  // of a cluster lies within radius + move of its centre posed at the
+  // midpoint over the whole segment, so a cluster that far clear of the
+  // static box keeps its points at least that far from the static part;
+  // the pair's distance is then at least the least of the others' and
+  // that, and the others' moves bound how fast it can change.
+  const Checker& checker = segments_.checker_;
+  const std::size_t n = checker.part_count();
   auto still = [&](int x) {
-    return x >= 0 && static_cast<std::size_t>(x) < n && x != segments_.checker_.terrain_index() &&
+    return x >= 0 && static_cast<std::size_t>(x) < n &&
            std::find(segments_.moving_.begin(), segments_.moving_.end(), x) == segments_.moving_.end();
   };
   const PartMove* moving = nullptr;
@@ -214,7 +215,13 @@ SegmentChecker::PoseRates::Rate SegmentChecker::PoseRates::of(std::size_t k, dou
   if (ma.balls && still(b)) moving = &ma, other = b;
   if (mb.balls && still(a)) moving = &mb, other = a;
   if (!moving) return out;
-  const auto& [lo, hi] = posed_.box[static_cast<std::size_t>(other)];
+  Vec3 lo, hi;
+  if (other == checker.terrain_index()) {
+    if (!checker.terrain_box(posed_.terrain, lo, hi)) return out;
+  } else {
+    lo = posed_.box[static_cast<std::size_t>(other)].first;
+    hi = posed_.box[static_cast<std::size_t>(other)].second;
+  }
   double rate = 0.0, far = std::numeric_limits<double>::infinity();
   for (const BoxMotion::Ball& ball : moving->ball) {
     const Vec3 d = (lo - ball.centre).cwiseMax(ball.centre - hi).cwiseMax(Vec3::Zero());

@@ -455,6 +455,15 @@ void Checker::set_gap_rows() {
   }
 }
 
+bool Checker::terrain_box(const Heightfield* field, Vec3& lo, Vec3& hi) const {
+  const Heightfield* f = field ? field : terrain_.get();
+  if (!(f && f->triangle_count() > 0)) return false;
+  const Box b = terrain_root_box(*f);
+  lo = b.lo;
+  hi = b.hi;
+  return true;
+}
+
 const BoxMotion& Checker::box_motion() const {
   LazyBoxMotion& lazy = *box_motion_;
   std::call_once(lazy.once, [&] { lazy.box = std::make_unique<const BoxMotion>(scene_, BoxMotion::Points::kTriangles); });

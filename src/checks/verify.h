@@ -326,6 +326,10 @@ class Checker {
   // The terrain as a heightfield (nullptr: no colliding terrain) and its
   // index in the part list.
   const Heightfield* terrain() const { return terrain_.get(); }
+  // The box pair_gaps bounds the terrain by (its hierarchy's root): of
+  // `field` (a dug copy), or of the scene's terrain when null. False when
+  // there is no terrain to check.
+  bool terrain_box(const Heightfield* field, Vec3& lo, Vec3& hi) const;
   int terrain_index() const { return terrain_index_; }
   // Whether verify_plans checks the terrain pairs against the dug terrain:
   // the scene digs (scoop and terrain) and some pair involves the terrain.
