@@ -33,6 +33,21 @@ double moved(const Scene& scene, const std::vector<double>& c, const std::vector
   return m;
 }
 
+// A random box [lo, hi] of the chain's parameters and a point c in it:
+// from a hair to about a radian (or a metre) wide, some axes fixed.
+void random_box(const Scene& scene, std::mt19937_64& rng, std::vector<double>& lo, std::vector<double>& hi,
+                std::vector<double>& c) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const Action& a : scene.actions)
+    for (int k = 0; k < a.parameter_count; ++k) {
+      const std::size_t i = static_cast<std::size_t>(a.first_parameter + k);
+      const double width = std::pow(10.0, -3.0 * u(rng)) / a.unit_to_si;
+      lo[i] = (u(rng) * 8.0 - 4.0) / a.unit_to_si;
+      hi[i] = lo[i] + width * (rng() % 4 == 0 ? 0.0 : 1.0);
+      c[i] = lo[i] + u(rng) * (hi[i] - lo[i]);
+    }
+}
+
 // Largest vertex move over the box seen by sampling, against the bound; the
 // bound scaled by `scale` (a test of the test: 0.5 must fail somewhere).
 bool holds_everywhere(double scale, double* tightest = nullptr) {
@@ -44,15 +59,7 @@ bool holds_everywhere(double scale, double* tightest = nullptr) {
     const BoxMotion bound(scene);
     const std::size_t p = scene.reference_parameters.size();
     std::vector<double> lo(p), hi(p), c(p);
-    for (const Action& a : scene.actions)
-      for (int k = 0; k < a.parameter_count; ++k) {
-        const std::size_t i = static_cast<std::size_t>(a.first_parameter + k);
-        // Boxes from a hair to about a radian (or a metre) wide.
-        const double width = std::pow(10.0, -3.0 * u(rng)) / a.unit_to_si;
-        lo[i] = (u(rng) * 8.0 - 4.0) / a.unit_to_si;
-        hi[i] = lo[i] + width * (rng() % 4 == 0 ? 0.0 : 1.0);  // some axes fixed
-        c[i] = lo[i] + u(rng) * (hi[i] - lo[i]);
-      }
+    random_box(scene, rng, lo, hi, c);
     const double m = scale * bound.reach(0, lo, hi, c);
     std::vector<double> q(p);
     for (int s = 0; s < 200; ++s) {
@@ -147,14 +154,7 @@ bool balls_hold(double shrink) {
     const BoxMotion bound(scene, BoxMotion::Points::kTriangles);
     const std::size_t p = scene.reference_parameters.size();
     std::vector<double> lo(p), hi(p), c(p);
-    for (const Action& a : scene.actions)
-      for (int k = 0; k < a.parameter_count; ++k) {
-        const std::size_t i = static_cast<std::size_t>(a.first_parameter + k);
-        const double width = std::pow(10.0, -3.0 * u(rng)) / a.unit_to_si;
-        lo[i] = (u(rng) * 8.0 - 4.0) / a.unit_to_si;
-        hi[i] = lo[i] + width * (rng() % 4 == 0 ? 0.0 : 1.0);
-        c[i] = lo[i] + u(rng) * (hi[i] - lo[i]);
-      }
+    random_box(scene, rng, lo, hi, c);
     std::vector<BoxMotion::Ball> balls;
     if (!bound.balls(0, lo, hi, c, balls)) return false;  // rigid chains always have them
     const Mesh& mesh = scene.parts[0].mesh;
