@@ -1278,6 +1278,12 @@ std::vector<PairContact> Checker::reference_contacts() const {
   return r.contacts;
 }
 
+Vec3 Checker::target_point(const std::vector<double>& params, std::optional<ChainCache>& cache) const {
+  if (!scene_.scoop) return target_point(params);
+  if (!cache) cache.emplace(scene_, scene_.parts[static_cast<std::size_t>(scene_.scoop->part_index)].chain);
+  return (*cache)(params) * scene_.scoop->bottom_point;
+}
+
 Vec3 Checker::target_point(const std::vector<double>& params) const {
   if (scene_.scoop) {
     const int p = scene_.scoop->part_index;

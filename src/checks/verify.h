@@ -11,6 +11,7 @@
 #include "src/geometry/box_motion.h"
 #include "src/geometry/motion_bound.h"
 #include "src/checks/probes.h"
+#include "src/scene/kinematics.h"
 #include "src/scene/plan.h"
 #include "src/scene/scene.h"
 
@@ -400,6 +401,11 @@ class Checker {
   // The point a plan's target refers to, posed: the scoop's bottom point, or
   // without a scoop the origin of the last action's node.
   Vec3 target_point(const std::vector<double>& params) const;
+  // The same for many states in a row (the sweep's reach summary): `cache`
+  // keeps the scoop's chain products between calls (ChainCache; made on
+  // first use, one per thread), so a state that changes only the last
+  // joints composes only those. The same bits as target_point(params).
+  Vec3 target_point(const std::vector<double>& params, std::optional<ChainCache>& cache) const;
 
  private:
   struct PairRef {

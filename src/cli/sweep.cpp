@@ -398,6 +398,10 @@ void check_block_part(const Checker& checker, const Scene& scene, const Grid& gr
   for (std::size_t k = 0; k < axes.size(); ++k) t.safe_by_value[k].assign(size[k], 0);
   t.closest.min_distance = std::numeric_limits<double>::infinity();
   digit.assign(d, 0);
+  // The block's configurations in order, last axis fastest: the target
+  // points recompose only the joints that changed (ChainCache). 5-degree
+  // grid, 1 thread: target_point 4.9 G of 84.0 G instructions before.
+  std::optional<ChainCache> target_chain;
   for (std::size_t i = 0; i < n; ++i) {
     const Verdict v = r.verdict[i];
     part.codes[i] = sweep_verdict_code(v);
@@ -431,7 +435,7 @@ void check_block_part(const Checker& checker, const Scene& scene, const Grid& gr
     if (v == Verdict::kSafe) {
       for (std::size_t k = 0; k < d; ++k) ++t.safe_by_value[k][digit[k]];
       grid.decode(index, params, nullptr);
-      const Vec3 target = checker.target_point(params);
+      const Vec3 target = checker.target_point(params, target_chain);
       t.reach_lo = t.reach_lo.cwiseMin(target);
       t.reach_hi = t.reach_hi.cwiseMax(target);
     }

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace plancheck {
 
@@ -121,6 +122,47 @@ void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::sp
 
 void chain_transforms(const Scene& scene, std::span<const double> params, std::vector<Affine>& out) {
   chain_transforms(scene, chain_prefixes(scene), params, out);
+}
+
+ChainCache::ChainCache(const Scene& scene, const std::vector<int>& chain) : scene_(scene), chain_(chain) {
+  for (int a : chain_) {
+    const Action& action = scene_.actions[static_cast<std::size_t>(a)];
+    std::vector<int> reads;
+    if (action.mimic >= 0) {
+      reads.push_back(scene_.actions[static_cast<std::size_t>(action.mimic)].first_parameter);
+    } else {
+      for (int k = 0; k < action.parameter_count; ++k) reads.push_back(action.first_parameter + k);
+    }
+    first_seen_.push_back(seen_.size());
+    seen_.resize(seen_.size() + reads.size(), 0);
+    reads_.push_back(std::move(reads));
+  }
+  prefix_.assign(chain_.size() + 1, Affine::Identity());
+}
+
+const Affine& ChainCache::operator()(std::span<const double> params) {
+  // The first action whose parameters changed (or that was never composed).
+  std::size_t from = 0;
+  while (from < valid_) {
+    bool same = true;
+    const std::vector<int>& reads = reads_[from];
+    for (std::size_t r = 0; r < reads.size(); ++r) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &params[static_cast<std::size_t>(reads[r])], sizeof bits);
+      same = same && bits == seen_[first_seen_[from] + r];
+    }
+    if (!same) break;
+    ++from;
+  }
+  for (std::size_t k = from; k < chain_.size(); ++k) {
+    const std::vector<int>& reads = reads_[k];
+    for (std::size_t r = 0; r < reads.size(); ++r)
+      std::memcpy(&seen_[first_seen_[k] + r], &params[static_cast<std::size_t>(reads[r])], sizeof(std::uint64_t));
+    // compose's product, one action at a time from the identity.
+    prefix_[k + 1] = prefix_[k] * action_transform_at(scene_, scene_.actions[static_cast<std::size_t>(chain_[k])], params);
+  }
+  valid_ = chain_.size();
+  return prefix_[chain_.size()];
 }
 
 Affine part_transform(const Scene& scene, int part, std::span<const double> params) {

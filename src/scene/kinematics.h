@@ -5,6 +5,7 @@
 
 #include "src/scene/scene.h"
 
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -45,6 +46,31 @@ void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::sp
 
 // The transform that poses part `part` (identity for static parts).
 Affine part_transform(const Scene& scene, int part, std::span<const double> params);
+
+// compose for one chain over many parameter vectors in a row that differ
+// mostly in the chain's last actions (a grid walked with its last axis
+// fastest: the sweep's target points). The product after each action is
+// kept, and a call recomputes from the first action whose parameters (as
+// read: its own, or a mimic's master's) differ bitwise from the last
+// call's: -0 and 0 may pose differently, and a NaN equals itself only so.
+// The same products in the same order as part_transform and
+// chain_transforms, so the same bits. Not thread-safe: one per thread.
+class ChainCache {
+ public:
+  ChainCache(const Scene& scene, const std::vector<int>& chain);
+  // The chain's product at params (a full parameter vector); valid until
+  // the next call.
+  const Affine& operator()(std::span<const double> params);
+
+ private:
+  const Scene& scene_;
+  std::vector<int> chain_;
+  std::vector<std::vector<int>> reads_;  // per action of the chain: the parameters it reads
+  std::vector<Affine> prefix_;           // prefix_[k]: the first k actions' product (prefix_[0]: identity)
+  std::vector<std::uint64_t> seen_;      // per action, the bits of its parameters at the last call
+  std::vector<std::size_t> first_seen_;  // where action k's bits start in seen_
+  std::size_t valid_ = 0;                // actions whose products in prefix_ hold
+};
 
 // An action's parameter as the pose uses it: rad for a rotation (whole turns
 // removed first when written in degrees), m for a translation, the factor for

@@ -141,6 +141,73 @@ TEST(Kinematics, ChainTransformsEqualEachChainComposedAlone) {
   }
 }
 
+// ChainCache against each chain composed alone, bit for bit (memcmp): random
+// actions of every type, some of them mimic joints of an earlier action,
+// chains of random actions, and parameter vectors in a row that change a
+// random suffix, a random single parameter, nothing, or flip a value's sign
+// bit at 0 (-0 and 0 pose differently), or hold a NaN; the cache's first
+// call and calls after every kind of change.
+TEST(Kinematics, ChainCacheEqualsTheChainComposedAlone) {
+  std::mt19937 rng(33);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int reused = 0;
+  for (int trial = 0; trial < 100; ++trial) {
+    Scene s;
+    const int action_count = 7;
+    int parameters = 0;
+    for (int i = 0; i < action_count; ++i) {
+      Action a;
+      a.type = static_cast<ActionType>(rng() % 4);
+      a.pivot = Vec3(u(rng), u(rng), u(rng)) * 3.0;
+      a.axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+      a.fixed_point = Vec3(u(rng), u(rng), u(rng));
+      a.first_parameter = parameters;
+      a.parameter_count = a.type == ActionType::kTranslateFree || a.type == ActionType::kScale ? 3 : 1;
+      if (a.type == ActionType::kRotate && rng() % 2 == 0) {
+        a.unit_to_si = kPi / 180.0;
+        a.whole_turn = 360.0;
+      }
+      parameters += a.parameter_count;
+      if (i > 0 && a.parameter_count == 1 && rng() % 3 == 0) {  // a mimic of an earlier one-parameter action
+        const int master = static_cast<int>(rng() % static_cast<unsigned>(i));
+        if (s.actions[static_cast<std::size_t>(master)].parameter_count == 1 && s.actions[static_cast<std::size_t>(master)].mimic < 0) {
+          a.mimic = master;
+          a.multiplier = u(rng) * 2.0;
+          a.offset = u(rng);
+          parameters -= 1;
+          a.parameter_count = 0;
+        }
+      }
+      s.actions.push_back(a);
+    }
+    std::vector<int> chain;
+    for (int i = 0; i < 1 + static_cast<int>(rng() % 6); ++i) chain.push_back(static_cast<int>(rng() % action_count));
+    ChainCache cache(s, chain);
+    std::vector<double> p(static_cast<std::size_t>(parameters));
+    for (double& v : p) v = u(rng) * 40.0;
+    for (int step = 0; step < 60; ++step) {
+      const int kind = static_cast<int>(rng() % 5);
+      if (kind == 0) {  // a random suffix
+        for (std::size_t k = rng() % p.size(); k < p.size(); ++k) p[k] = u(rng) * 40.0;
+      } else if (kind == 1) {  // one parameter
+        p[rng() % p.size()] = u(rng) * 40.0;
+      } else if (kind == 2) {  // a zero, then its sign flipped
+        double& v = p[rng() % p.size()];
+        v = v == 0.0 ? -v : 0.0;
+      } else if (kind == 3 && rng() % 4 == 0) {  // a NaN
+        p[rng() % p.size()] = std::numeric_limits<double>::quiet_NaN();
+      }  // else nothing changes
+      Affine t = Affine::Identity();
+      for (int a : chain) t = t * action_transform_at(s, s.actions[static_cast<std::size_t>(a)], p);
+      const Affine& c = cache(p);
+      ASSERT_EQ(std::memcmp(t.matrix().data(), c.matrix().data(), sizeof(double) * 16), 0)
+          << "trial " << trial << " step " << step << " kind " << kind;
+      reused += kind == 4;
+    }
+  }
+  EXPECT_GT(reused, 100);
+}
+
 TEST(Kinematics, RightHandedRotation) {
   Action a;
   a.type = ActionType::kRotate;
