@@ -91,6 +91,24 @@ TEST(Kinematics, CompositionOrderIsRootFirst) {
         << part.name;
 }
 
+// One action of a random type about random points and axes (half of the
+// rotations in degrees), its parameters from `first` on.
+Action random_action(std::mt19937& rng, int first) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Action a;
+  a.type = static_cast<ActionType>(rng() % 4);
+  a.pivot = Vec3(u(rng), u(rng), u(rng)) * 3.0;
+  a.axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+  a.fixed_point = Vec3(u(rng), u(rng), u(rng));
+  a.first_parameter = first;
+  a.parameter_count = a.type == ActionType::kTranslateFree || a.type == ActionType::kScale ? 3 : 1;
+  if (a.type == ActionType::kRotate && rng() % 2 == 0) {
+    a.unit_to_si = kPi / 180.0;
+    a.whole_turn = 360.0;
+  }
+  return a;
+}
+
 // chain_transforms continues the product of an earlier chain that begins
 // a chain; every chain must still be exactly (bit for bit) the product of
 // its own actions from the identity, root first, whatever the order of the
@@ -104,17 +122,7 @@ TEST(Kinematics, ChainTransformsEqualEachChainComposedAlone) {
     const int action_count = 6;
     int parameters = 0;
     for (int i = 0; i < action_count; ++i) {
-      Action a;
-      a.type = static_cast<ActionType>(rng() % 4);
-      a.pivot = Vec3(u(rng), u(rng), u(rng)) * 3.0;
-      a.axis = Vec3(u(rng), u(rng), u(rng)).normalized();
-      a.fixed_point = Vec3(u(rng), u(rng), u(rng));
-      a.first_parameter = parameters;
-      a.parameter_count = a.type == ActionType::kTranslateFree || a.type == ActionType::kScale ? 3 : 1;
-      if (a.type == ActionType::kRotate && rng() % 2 == 0) {
-        a.unit_to_si = kPi / 180.0;
-        a.whole_turn = 360.0;
-      }
+      Action a = random_action(rng, parameters);
       parameters += a.parameter_count;
       s.actions.push_back(a);
     }
@@ -156,17 +164,7 @@ TEST(Kinematics, ChainCacheEqualsTheChainComposedAlone) {
     const int action_count = 7;
     int parameters = 0;
     for (int i = 0; i < action_count; ++i) {
-      Action a;
-      a.type = static_cast<ActionType>(rng() % 4);
-      a.pivot = Vec3(u(rng), u(rng), u(rng)) * 3.0;
-      a.axis = Vec3(u(rng), u(rng), u(rng)).normalized();
-      a.fixed_point = Vec3(u(rng), u(rng), u(rng));
-      a.first_parameter = parameters;
-      a.parameter_count = a.type == ActionType::kTranslateFree || a.type == ActionType::kScale ? 3 : 1;
-      if (a.type == ActionType::kRotate && rng() % 2 == 0) {
-        a.unit_to_si = kPi / 180.0;
-        a.whole_turn = 360.0;
-      }
+      Action a = random_action(rng, parameters);
       parameters += a.parameter_count;
       if (i > 0 && a.parameter_count == 1 && rng() % 3 == 0) {  // a mimic of an earlier one-parameter action
         const int master = static_cast<int>(rng() % static_cast<unsigned>(i));
