@@ -162,7 +162,7 @@ SegmentChecker::PoseRates::PoseRates(const SegmentChecker& segments, const std::
 const SegmentChecker::PoseRates::PartMove& SegmentChecker::PoseRates::part(int x) {
   static const PartMove kStill{};
   const Checker& checker = segments_.checker_;
-  if (x < 0 || static_cast<std::size_t>(x) >= checker.part_count()) return kStill;  // the terrain
+  if (x < 0 || static_cast<std::size_t>(x) >= checker.part_count()) return kStill;  // no such part
   if (!ready_) {
     box_ = &checker.box_motion();  // built the first time a segment asks
     lo_.resize(qa_.size());
@@ -615,7 +615,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   // A pair whose bound would leave it sampling more than a few times
   // (kTight: its motion bound beyond that many times the room its ends
   // leave above the first pass's target) marches at the rate read from the
-  // poses themselves (pose_rate) when that is lower: fewer samples for the
+  // poses themselves (PoseRates) when that is lower: fewer samples for the
   // same certificate. Decided per pair from its own data, so on any number
   // of threads; e_limit and the ends' floors stay the bounds'.
   {

@@ -150,7 +150,9 @@ class SegmentChecker {
   // the midpoint: so twice the reach bounds the path over every piece
   // [ta, tb] by its share (tb - ta), as MotionBound::pair_bound does with
   // levers read for any pose (an arm folded back counted as stretched
-  // out). Each part's reach is computed when a pair first asks for it.
+  // out). Against a static part or the terrain only the moving part's
+  // clusters that can come near it count (of). Each part's reach and
+  // clusters are computed when a pair first asks for them.
   class PoseRates {
    public:
     PoseRates(const SegmentChecker& segments, const std::vector<double>& qa, const std::vector<double>& qb,
