@@ -324,6 +324,11 @@ std::vector<std::pair<std::size_t, std::size_t>> make_chunks(std::span<const std
   return chunks;
 }
 
+// A chunk's target weight under the command's cap (DistOptions::max_chunk_weight).
+std::uint64_t capped(const DistOptions& o, std::uint64_t target) {
+  return o.max_chunk_weight > 0 ? std::min(target, o.max_chunk_weight) : target;
+}
+
 std::uint64_t range_weight(std::span<const std::uint64_t> weights, std::size_t begin, std::size_t end) {
   std::uint64_t w = 0;
   for (std::size_t i = begin; i < end; ++i) w += std::max<std::uint64_t>(weights[i], 1);
@@ -557,7 +562,8 @@ DistResult run_local(const DistOptions& o, std::span<const std::uint64_t> weight
   auto consume_done_until = [&](std::size_t until) {
     for (; next < until; ++next) consume(next, read_blob(reread, file, done.records.at(next)));
   };
-  const std::uint64_t target = o.chunk_weight > 0 ? o.chunk_weight : std::max<std::uint64_t>(1, range_weight(weights, begin, end) / 8);
+  const std::uint64_t target =
+      capped(o, o.chunk_weight > 0 ? o.chunk_weight : std::max<std::uint64_t>(1, range_weight(weights, begin, end) / 8));
   const std::size_t stop = stop_after();
   std::size_t computed = 0;
   for (const auto& [b, e] : make_chunks(weights, begin, end, done.records, target)) {
@@ -674,9 +680,9 @@ DistResult run_root(const DistOptions& o, std::span<const std::uint64_t> weights
   std::ifstream reread;
   if (!done.records.empty()) reread.open(file, std::ios::binary);
 
-  const std::uint64_t target =
-      o.chunk_weight > 0 ? o.chunk_weight
-                         : std::max<std::uint64_t>(1, range_weight(weights, 0, items) / (16 * static_cast<std::uint64_t>(size)));
+  const std::uint64_t target = capped(
+      o, o.chunk_weight > 0 ? o.chunk_weight
+                            : std::max<std::uint64_t>(1, range_weight(weights, 0, items) / (16 * static_cast<std::uint64_t>(size))));
   const auto chunks = make_chunks(weights, 0, items, done.records, target);
   const std::size_t stop = stop_after();
 

@@ -93,6 +93,11 @@ struct DistOptions {
   // Weight of a chunk (journal and fsync unit, and what an MPI rank is handed);
   // 0: about an eighth of the run's (part's) weight, a 16th of it per rank under MPI.
   std::uint64_t chunk_weight = 0;
+  // The most a chunk may weigh, whatever chunk_weight or the default says
+  // (0: no cap). A chunk's blobs are held in memory until it is journalled
+  // and consumed, so a command whose blob size grows with an item's weight
+  // caps its chunks here: memory then follows this cap, not the run's size.
+  std::uint64_t max_chunk_weight = 0;
   std::ostream* log = nullptr;  // status lines (stderr); nullptr: none
 };
 

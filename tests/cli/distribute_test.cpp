@@ -113,6 +113,46 @@ TEST(Distribute, ShardsMergeToTheItemsInOrder) {
   std::filesystem::remove_all(dir);
 }
 
+// max_chunk_weight caps every chunk, whether the weight asked for is the
+// command's (chunk_weight) or the default share of the run, single or
+// sharded: the largest range handed to compute weighs at most the cap
+// (or is one item), and every item is still consumed once, in order.
+TEST(Distribute, ChunksStayUnderTheCapWhateverTheyAskFor) {
+  const auto dir = scratch("cap");
+  std::vector<std::uint64_t> w;
+  for (std::size_t i = 0; i < 200; ++i) w.push_back(i % 7 == 0 ? 9 : 1 + i % 3);  // some items above the cap
+  for (const std::uint64_t asked : {std::uint64_t{0}, std::uint64_t{1000}}) {
+    for (const bool sharded : {false, true}) {
+      DistOptions o = toy_options(dir / (std::to_string(asked) + (sharded ? "s" : "")));
+      o.chunk_weight = asked;
+      o.max_chunk_weight = 8;
+      if (sharded) o.shard = Shard{1, 2};
+      std::uint64_t heaviest = 0;
+      std::size_t calls = 0, next = 0;
+      run_items(
+          o, w,
+          [&](std::size_t b, std::size_t e) {
+            std::uint64_t weight = 0;
+            for (std::size_t k = b; k < e; ++k) weight += w[k];
+            if (e - b > 1) heaviest = std::max(heaviest, weight);
+            ++calls;
+            std::vector<std::string> out;
+            for (std::size_t k = b; k < e; ++k) out.push_back(blob_of(k));
+            return out;
+          },
+          [&](std::size_t item, std::string_view blob) {
+            EXPECT_EQ(item, next++);
+            EXPECT_EQ(blob, blob_of(item));
+          });
+      EXPECT_LE(heaviest, 8u) << "asked " << asked << (sharded ? ", sharded" : "");
+      EXPECT_GT(heaviest, 4u);  // the cap, not something smaller, set the chunks
+      EXPECT_GT(calls, 20u);
+      EXPECT_EQ(next, sharded ? 0u : w.size());
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(Distribute, ResumeRecomputesOnlyTheMissingItems) {
   const auto dir = scratch("resume");
   const std::vector<std::uint64_t> w(10, 1);
