@@ -73,11 +73,14 @@ Affine action_transform_at(const Scene& scene, const Action& action, std::span<c
 
 namespace {
 
+// The product A1 * ... * Ak, from A1 itself (the identity times A1 is the
+// same values, a zero's sign aside: chain_transforms and ChainCache start
+// the same way, so that all three give the same bits).
 Affine compose(const Scene& scene, const std::vector<int>& chain, std::span<const double> params) {
-  Affine t = Affine::Identity();
-  for (int a : chain) {
-    t = t * action_transform_at(scene, scene.actions[a], params);
-  }
+  if (chain.empty()) return Affine::Identity();
+  Affine t = action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[0])], params);
+  for (std::size_t k = 1; k < chain.size(); ++k)
+    t = t * action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[k])], params);
   return t;
 }
 
@@ -125,7 +128,11 @@ void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::sp
       return action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[k])], params);
     };
     Affine& t = out[c];
-    t = start * action(i);
+    // A chain from the root starts at its first action itself (as compose).
+    if (p >= 0)
+      t = start * action(i);
+    else
+      t = action(i);
     for (++i; i < chain.size(); ++i) t = t * action(i);
   }
 }
@@ -168,8 +175,9 @@ const Affine& ChainCache::operator()(std::span<const double> params) {
     const std::vector<int>& reads = reads_[k];
     for (std::size_t r = 0; r < reads.size(); ++r)
       std::memcpy(&seen_[first_seen_[k] + r], &params[static_cast<std::size_t>(reads[r])], sizeof(std::uint64_t));
-    // compose's product, one action at a time from the identity.
-    prefix_[k + 1] = prefix_[k] * action_transform_at(scene_, scene_.actions[static_cast<std::size_t>(chain_[k])], params);
+    // compose's product, one action at a time from the first.
+    const Affine a = action_transform_at(scene_, scene_.actions[static_cast<std::size_t>(chain_[k])], params);
+    prefix_[k + 1] = k == 0 ? a : prefix_[k] * a;
   }
   valid_ = chain_.size();
   return prefix_[chain_.size()];

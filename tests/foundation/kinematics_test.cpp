@@ -195,8 +195,9 @@ TEST(Kinematics, ChainCacheEqualsTheChainComposedAlone) {
       } else if (kind == 3 && rng() % 4 == 0) {  // a NaN
         p[rng() % p.size()] = std::numeric_limits<double>::quiet_NaN();
       }  // else nothing changes
-      Affine t = Affine::Identity();
-      for (int a : chain) t = t * action_transform_at(s, s.actions[static_cast<std::size_t>(a)], p);
+      // The chain composed alone, as compose does it: from its first action.
+      Affine t = action_transform_at(s, s.actions[static_cast<std::size_t>(chain[0])], p);
+      for (std::size_t k = 1; k < chain.size(); ++k) t = t * action_transform_at(s, s.actions[static_cast<std::size_t>(chain[k])], p);
       const Affine& c = cache(p);
       ASSERT_EQ(std::memcmp(t.matrix().data(), c.matrix().data(), sizeof(double) * 16), 0)
           << "trial " << trial << " step " << step << " kind " << kind;
