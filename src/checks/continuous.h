@@ -134,11 +134,14 @@ class SegmentChecker {
   // Where the end states' distances count (m): every pair at least
   // min(its state's distance, this) at an end in both modes, so that both
   // modes take the same steps (check_motion's verdict-only ends are exact
-  // below the largest it can be, first limit plus the margin, when it is
+  // below the largest it can be, first limit plus end_reach, when it is
   // finite; a bound beyond that lies beyond it). First limit plus half the largest pair motion:
   // two ends that far clear certify the whole segment at once. From the
   // pairs' bounds (MotionBound::pair_bounds).
   double end_limit(const std::vector<double>& bounds) const;
+  // The most end_limit lies beyond first_limit (half the margin, or of the
+  // tolerance without one).
+  double end_reach() const;
   // The distance a violation witness lies below: the first pass's.
   double first_limit() const;
   // Per pair k of one segment, a rate for the march from the poses
