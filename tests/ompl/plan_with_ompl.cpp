@@ -148,9 +148,9 @@ void plan_and_verify(const std::string& name, const fs::path& scene_path, const 
     plans += " \"" + file.string() + "\"";
   }
   {
-    // The validator's bool answer is check_motion's, whether its screen of
-    // OMPL's discrete states rejects the motion first or the certificate
-    // decides: random safe states and others near them (a quarter of the
+    // The validator's bool answer is check_motion's, whether its screen
+    // (states at a quarter of OMPL's resolution) rejects the motion first
+    // or the certificate decides: random safe states and others near them (a quarter of the
     // space's extent), and each unsafe one shortened from its end in steps
     // of 10% until it is safe, so that some violations fall between the
     // discrete states (the certificate's) as others fall on one (the
@@ -165,8 +165,8 @@ void plan_and_verify(const std::string& name, const fs::path& scene_path, const 
         return true;
       }
       if (safe) return true;
-      // Would the screen alone reject it (a discrete state inside not safe)?
-      const unsigned int segs = si->getStateSpace()->validSegmentCount(x, y);
+      // Would the screen alone reject it (one of its states not safe)?
+      const unsigned int segs = (si->getStateSpace()->validSegmentCount(x, y) + 3) / 4;
       bool hit = false;
       for (unsigned int k = 1; k < segs && !hit; ++k) {
         si->getStateSpace()->interpolate(x, y, static_cast<double>(k) / segs, mid.get());
@@ -188,7 +188,7 @@ void plan_and_verify(const std::string& name, const fs::path& scene_path, const 
         si->getStateSpace()->interpolate(a.get(), b.get(), s, c.get());
       }
     }
-    std::printf("%s: %d motions; unsafe: %d with a discrete state not safe, %d without\n", name.c_str(), motions,
+    std::printf("%s: %d motions; unsafe: %d with a screened state not safe, %d without\n", name.c_str(), motions,
                 screened, certificate);
     if (screened == 0 || certificate == 0) fail(name + ": the motions did not exercise both the screen and the certificate");
   }
