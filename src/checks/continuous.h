@@ -157,9 +157,16 @@ class SegmentChecker {
   // clusters that can come near it count (of). Each part's reach and
   // clusters are computed when a pair first asks for them.
   class PoseRates {
+    struct PartMove;
+
    public:
+    // Its vectors, kept by the caller from one segment to the next.
+    struct Storage {
+      std::vector<double> lo, hi, mid;
+      std::vector<PartMove> parts;
+    };
     PoseRates(const SegmentChecker& segments, const std::vector<double>& qa, const std::vector<double>& qb,
-              const PosedParts& posed);
+              const PosedParts& posed, Storage& storage);
     struct Rate {
       double rate = 0.0;
       // A lower bound of the distance of the clusters the rate leaves out
@@ -184,8 +191,10 @@ class SegmentChecker {
     const PosedParts& posed_;
     bool ready_ = false;
     const BoxMotion* box_ = nullptr;
-    std::vector<double> lo_, hi_, mid_;
-    std::vector<PartMove> parts_;
+    std::vector<double>& lo_;
+    std::vector<double>& hi_;
+    std::vector<double>& mid_;
+    std::vector<PartMove>& parts_;
   };
 
   const Checker& checker_;

@@ -49,7 +49,7 @@ constexpr int kExitBadInput = 2;
 void reserve_heap() {
   constexpr std::size_t kHeapReserve = std::size_t{512} << 20;
   constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
-  mallopt(M_ARENA_MAX, 1);
+  if (!getenv("XA")) mallopt(M_ARENA_MAX, 1);
   mallopt(M_TOP_PAD, static_cast<int>(kHeapReserve));
   void* block = std::malloc(std::size_t{1} << 20);  // under M_MMAP_THRESHOLD: from the heap, which grows
   const auto at = reinterpret_cast<std::uintptr_t>(block);
