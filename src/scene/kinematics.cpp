@@ -111,6 +111,21 @@ std::vector<int> chain_prefixes(const Scene& scene) {
   return from;
 }
 
+namespace {
+
+// out = a * b, written in place: the very expressions of Eigen's Affine
+// product (transform_transform_product_impl: linear a.l * b.l, translation
+// a.l * b.t + a.t), so the same bits, without its result's copy. out may
+// be a: the translation is taken first, while a's linear part is intact
+// (each product is evaluated into a temporary before it is assigned).
+void times(const Affine& a, const Affine& b, Affine& out) {
+  out.translation() = a.linear() * b.translation() + a.translation();
+  out.linear() = a.linear() * b.linear();
+  out.makeAffine();
+}
+
+}  // namespace
+
 void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::span<const double> params,
                       std::vector<Affine>& out) {
   out.resize(scene.chains.size());
@@ -130,10 +145,10 @@ void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::sp
     Affine& t = out[c];
     // A chain from the root starts at its first action itself (as compose).
     if (p >= 0)
-      t = start * action(i);
+      times(start, action(i), t);
     else
       t = action(i);
-    for (++i; i < chain.size(); ++i) t = t * action(i);
+    for (++i; i < chain.size(); ++i) times(t, action(i), t);
   }
 }
 
