@@ -27,30 +27,30 @@ double pose_value(const Action& action, double written) {
 
 Affine action_transform(const Action& action, const double* params) {
   Affine t;
-  if (action.type == ActionType::kRotate) {
-    // x' = R(u, a)(x - p) + p, right-handed about the unit axis u. As
-    // Identity().translate(p).rotate(R).translate(-p) computes it, bit for
-    // bit (tests/scene/kinematics_test.cpp), without its products by the
-    // identity: the linear part is R itself and the translation p before
-    // the last step. A cold state's forward kinematics was a third of the
-    // collision-only check of Table 3's states.
-    t.linear() = Eigen::AngleAxisd(pose_value(action, params[0]), action.axis).toRotationMatrix();
-    t.translation() = action.pivot;
-    t.makeAffine();
-    t.translate(-action.pivot);
-    return t;
-  }
-  t.setIdentity();
   switch (action.type) {
     case ActionType::kRotate:
+      // x' = R(u, a)(x - p) + p, right-handed about the unit axis u. As
+      // Identity().translate(p).rotate(R).translate(-p) computes it, bit
+      // for bit (tests/foundation/kinematics_test.cpp), without its
+      // products by the identity: the linear part is R itself and the
+      // translation p before the last step. A cold state's forward
+      // kinematics was a third of the collision-only check of Table 3's
+      // states.
+      t.linear() = Eigen::AngleAxisd(pose_value(action, params[0]), action.axis).toRotationMatrix();
+      t.translation() = action.pivot;
+      t.makeAffine();
+      t.translate(-action.pivot);
       break;
     case ActionType::kTranslateAxis:
+      t.setIdentity();
       t.translate(action.axis * pose_value(action, params[0]));
       break;
     case ActionType::kTranslateFree:
+      t.setIdentity();
       t.translate(Vec3(pose_value(action, params[0]), pose_value(action, params[1]), pose_value(action, params[2])));
       break;
     case ActionType::kScale:
+      t.setIdentity();
       t.translate(action.fixed_point);
       t.scale(Vec3(params[0], params[1], params[2]));
       t.translate(-action.fixed_point);

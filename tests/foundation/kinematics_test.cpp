@@ -111,7 +111,7 @@ Action random_action(std::mt19937& rng, int first) {
 
 // chain_transforms continues the product of an earlier chain that begins
 // a chain; every chain must still be exactly (bit for bit) the product of
-// its own actions from the identity, root first, whatever the order of the
+// its own actions from the first, root first (compose), whatever the order of the
 // chains: prefixes before and after their extensions, branches, repeats, the
 // empty chain, and chains that share actions but not as a prefix.
 TEST(Kinematics, ChainTransformsEqualEachChainComposedAlone) {
