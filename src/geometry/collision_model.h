@@ -56,6 +56,12 @@ struct CollideRequest {
   // the leaf's triangles' planes and the box's face axes (collision_model.cpp):
   // the same guarantee as box_cull; false only for the tests that show it.
   bool leaf_cull = true;
+  // Whether two rigid parts whose root oriented boxes are apart in the
+  // world (by more than near_below, when asked) are answered there, before
+  // the working frame is set up: apart, not near, one node pair visited.
+  // The descent's first test would prove the same; false only for the
+  // tests that show it changes no answer.
+  bool root_cull = true;
   // When > 0: also whether the sets come closer than this (m), in the
   // same traversal (CollideResult::near). The descent's culls are widened
   // by it until the answer is known, so they keep the node pairs that may
@@ -145,5 +151,13 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
 
 void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
               const DistanceRequest& request, DistanceResult& result);
+
+// True when two parts posed by rigid ta and tb are proven more than `reach`
+// (m) apart by their root boxes posed in the world (the axis-aligned boxes
+// of their own frames, then their oriented boxes): collide()'s first test
+// (CollideRequest::root_cull). False for scaled or non-finite poses and
+// empty parts: nothing is proven then.
+bool roots_apart(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+                 double reach);
 
 }  // namespace plancheck

@@ -365,6 +365,107 @@ Mesh make_box(const Vec3& c, const Vec3& h) {
   return m;
 }
 
+// The world-frame cull of the root boxes (CollideRequest::root_cull,
+// roots_apart) against collide() without it: the same flag, listing,
+// contact and near answer, on interpenetrating, grazing and separate rigid
+// poses, near the origin and at lunar-scale offsets (1e6 m), and for boxes
+// whose faces are a relative 1e-12 to 1e-6 of a metre from touching, face
+// to face, edge to edge and slightly turned. Wherever roots_apart says
+// apart by `reach`, the exact distance is above reach. Scaled poses are
+// never culled (their boxes are not rigidly posed). Fails with the
+// oriented boxes' half extents halved or with reach ignored (the near
+// answers); with the tolerance dropped it still passes (these poses round
+// alike in both frames): the tolerance rests on the argument in
+// collision_model.cpp.
+TEST(CollisionModel, RootCullChangesNoAnswer) {
+  struct Case {
+    Mesh a, b;
+    double spread;
+  };
+  const Case cases[] = {
+      {testing::make_torus(Vec3::Zero(), 1.0, 0.3, 20, 10), testing::make_sphere(Vec3::Zero(), 0.5, 8, 12), 2.5},
+      {testing::make_soup(11, 600, Vec3::Zero(), 1.0, 0.3), testing::make_soup(12, 500, Vec3::Zero(), 1.0, 0.3), 2.5},
+      {make_box(Vec3(0.1, 0.2, -0.3), Vec3(0.5, 0.2, 0.1)), make_box(Vec3(-0.2, 0.0, 0.1), Vec3(0.3, 0.3, 0.05)), 1.5},
+  };
+  std::mt19937_64 rng(2026);
+  int poses = 0, culled = 0, kept_apart = 0, colliding = 0, culled_near = 0;
+  auto one = [&](const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
+                 const std::string& what) {
+    SCOPED_TRACE(what);
+    ++poses;
+    DistanceResult d;
+    distance(a, ta, b, tb, DistanceRequest{}, d);
+    for (double reach : {0.0, 4.001e-9, 1e-3, 0.05}) {
+      const bool cull = roots_apart(a, ta, b, tb, reach);
+      if (cull) {
+        ASSERT_GT(d.distance, reach) << "reach " << reach;
+      }
+      if (reach == 0.0) {
+        culled += cull;
+        kept_apart += !cull && d.distance > 0.0;
+      } else {
+        culled_near += cull;
+      }
+    }
+    for (std::size_t limit : {std::size_t{0}, std::size_t{1} << 30}) {
+      CollideResult rf, rs;
+      collide_with_and_without(a, ta, b, tb, limit, &CollideRequest::root_cull, rf, rs);
+      if (::testing::Test::HasFatalFailure()) return;
+      colliding += limit == 0 && rf.collide;
+    }
+    for (double near_below : {4.001e-9, 1e-3, 0.05, d.distance * (1.0 - 1e-9), d.distance * (1.0 + 1e-9)}) {
+      if (!(near_below > 0.0)) continue;
+      CollideResult rf, rs;
+      collide_with_and_without(a, ta, b, tb, 0, &CollideRequest::root_cull, rf, rs, near_below);
+      if (::testing::Test::HasFatalFailure()) return;
+    }
+  };
+  for (const Case& c : cases) {
+    const CollisionModel a(c.a), b(c.b);
+    for (const Vec3& offset : {Vec3(0.3, -0.2, 0.1), Vec3(1e6, -2e6, 3e5)}) {
+      for (int i = 0; i < testing::case_count(60, 15); ++i) {
+        const Affine ta = random_rigid(rng, offset, 0.0);
+        const Affine tb = random_rigid(rng, offset, c.spread);
+        one(a, ta, b, tb, "pose " + std::to_string(i));
+        if (::testing::Test::HasFatalFailure()) return;
+        // Scaled: never culled, answers as without the cull.
+        const Affine sb = with_scale(tb, rng);
+        EXPECT_FALSE(roots_apart(a, ta, b, sb, 0.0));
+        CollideResult rf, rs;
+        collide_with_and_without(a, ta, b, sb, 0, &CollideRequest::root_cull, rf, rs);
+        if (::testing::Test::HasFatalFailure()) return;
+      }
+    }
+  }
+  // Boxes whose root boxes are their own faces: b's face a relative gap
+  // from a's, face to face and turned about the gap's axis or tilted.
+  {
+    const Mesh ma = make_box(Vec3::Zero(), Vec3(0.5, 0.25, 0.125));
+    const Mesh mb = make_box(Vec3::Zero(), Vec3(0.25, 0.25, 0.25));
+    const CollisionModel a(ma), b(mb);
+    for (const Vec3& offset : {Vec3(0.0, 0.0, 0.0), Vec3(1e6, -2e6, 3e5)}) {
+      for (double gap : {-1e-6, -1e-12, 0.0, 1e-12, 1e-9, 1e-6, 1e-3}) {
+        for (double turn : {0.0, 0.3, 1e-7}) {
+          Affine ta = Affine::Identity();
+          ta.translation() = offset;
+          Affine tb = Affine::Identity();
+          tb.linear() = Eigen::AngleAxisd(turn, Vec3::UnitX()).toRotationMatrix();
+          // b's lowest point at a's top face (z = 0.125) plus the gap.
+          const double low = 0.25 * (std::abs(std::cos(turn)) + std::abs(std::sin(turn)));
+          tb.translation() = offset + Vec3(0.1, 0.0, 0.125 + low + gap);
+          one(a, ta, b, tb, "gap " + std::to_string(gap) + " turn " + std::to_string(turn));
+          if (::testing::Test::HasFatalFailure()) return;
+        }
+      }
+    }
+  }
+  // Both outcomes, and the cull at work, for the comparison to mean something.
+  EXPECT_GT(colliding, 0);
+  EXPECT_GT(culled, poses / 10);
+  EXPECT_GT(kept_apart, 0);
+  EXPECT_GT(culled_near, 0);
+}
+
 // The cull of a leaf's triangles against the other side's node boxes
 // (CollideRequest::leaf_cull, DistanceRequest::leaf_cull) against the
 // descents without it: the same flag, the same listing in the same order at
