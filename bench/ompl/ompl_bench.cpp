@@ -25,7 +25,6 @@
 #include <ompl/util/RandomNumbers.h>
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -324,7 +323,13 @@ int main(int argc, char** argv) {
   fs::create_directories(out);
   nlohmann::ordered_json scene = nlohmann::ordered_json::parse(read_text(data / "scene.json"));
   scene.erase("scoop");  // planning states never dig; verify sees the same scene
-  const fs::path nodig = data / ("scene-nodig-ompl-bench-" + std::to_string(::getpid()) + ".json");
+  // Written into OUT, never beside the dataset (a run stopped half way left
+  // its copy there): the model and the DEM named by absolute paths, as the
+  // URDF scene below names its files.
+  scene["model"] = (data / scene["model"].get<std::string>()).string();
+  if (scene.contains("terrain") && scene["terrain"].contains("dem"))
+    scene["terrain"]["dem"] = (data / scene["terrain"]["dem"].get<std::string>()).string();
+  const fs::path nodig = out / "scene-nodig.json";
   write_text(nodig, scene.dump(2));
   nlohmann::json urdf = nlohmann::json::parse(read_text(example / "scene.json"));
   urdf["model"] = (data / scene["model"].get<std::string>()).string();
@@ -337,6 +342,5 @@ int main(int argc, char** argv) {
     segment_table(a, segments);
     planner_table(a, seeds, pos[2], out);
   }
-  fs::remove(nodig);
   return 0;
 }
