@@ -56,7 +56,7 @@ struct CollideRequest {
   // the leaf's triangles' planes and the box's face axes (collision_model.cpp):
   // the same guarantee as box_cull; false only for the tests that show it.
   bool leaf_cull = true;
-  // Whether two rigid parts whose root oriented boxes are apart in the
+  // Whether two rigid parts whose root boxes (roots_apart) are apart in the
   // world (by more than near_below, when asked) are answered there, before
   // the working frame is set up: apart, not near, one node pair visited.
   // The descent's first test would prove the same; false only for the
@@ -161,8 +161,9 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
 
 // True when two parts posed by rigid ta and tb are proven more than `reach`
 // (m) apart by their root boxes posed in the world (the axis-aligned boxes
-// of their own frames, then their oriented boxes): collide()'s first test
-// (CollideRequest::root_cull). False for scaled or non-finite poses and
+// of their own frames, then their oriented boxes): the first test of
+// collide() and of distance() below a bound (CollideRequest::root_cull,
+// DistanceRequest::root_cull). False for scaled or non-finite poses and
 // empty parts: nothing is proven then.
 bool roots_apart(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
                  double reach);
