@@ -797,12 +797,23 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
       answer.seeded = p.seeded;
       answer.slot_a = p.slot_a;
       answer.slot_b = p.slot_b;
-      checker_.pair_distance(s.posed, k, need * (1.0 + rel), answer, false, rel);
-      if (answer.distance < limit) {
-        // Something within the factor of the limit was found (a bound
-        // proven from nothing found lies above it): exact, below it,
-        // from the triangles it found.
-        checker_.pair_distance(s.posed, k, answer.upper * (1.0 + 1e-12) + 1e-15, answer);
+      if (cap / need - 1.0 < kMinRel) {
+        // The pair runs along the target (its estimate within kMinRel of
+        // the need): searched exactly below need (1 + kMinRel) at once.
+        // Searched within the factor first, a distance found near the
+        // estimate leaves a bound below the limit, and the exact search
+        // below followed anyway. The OMPL bench's 1,001 planned segments
+        // of the default arm: 199 -> 164 us a segment (medians of three
+        // runs; the URDF arm's the same, 69 us: docs/planning.md).
+        checker_.pair_distance(s.posed, k, need * (1.0 + kMinRel), answer);
+      } else {
+        checker_.pair_distance(s.posed, k, need * (1.0 + rel), answer, false, rel);
+        if (answer.distance < limit) {
+          // Something within the factor of the limit was found (a bound
+          // proven from nothing found lies above it): exact, below it,
+          // from the triangles it found.
+          checker_.pair_distance(s.posed, k, answer.upper * (1.0 + 1e-12) + 1e-15, answer);
+        }
       }
       if (answer.seeded) {
         p.seeded = true;
