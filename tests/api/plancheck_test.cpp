@@ -375,6 +375,17 @@ TEST(Api, ThreadsAgree) {
   }
 }
 
+// Writes `scene` (a scene of directory `data`, its model and DEM named
+// relative to it) to `to`, with those two paths made absolute, so that the
+// copy reads the same files from anywhere.
+fs::path nodig_copy(nlohmann::ordered_json scene, const fs::path& data, const fs::path& to) {
+  scene["model"] = fs::absolute(data / scene["model"].get<std::string>()).string();
+  if (scene.contains("terrain") && scene["terrain"].contains("dem"))
+    scene["terrain"]["dem"] = fs::absolute(data / scene["terrain"]["dem"].get<std::string>()).string();
+  write_text(to, scene.dump(2));
+  return to;
+}
+
 // The default plans (DatasetFixture's change5): every state through the
 // API equals verify's CSV row. verify digs along a plan and checks the
 // terrain where it was dug; the API checks on the initial terrain, so verify
@@ -386,9 +397,9 @@ TEST(ApiDataset, DefaultPlansEqualVerify) {
   ASSERT_TRUE(scene_json.contains("scoop"));
   scene_json.erase("scoop");
   TempDir t;
-  // Beside the original: the model and DEM paths are relative to the scene file.
-  const fs::path nodig = data / ("scene-nodig-" + t.path.filename().string() + ".json");
-  write_text(nodig, scene_json.dump(2));
+  // In the test's own directory, the model and the DEM named by absolute
+  // paths: nothing is written beside the dataset.
+  const fs::path nodig = nodig_copy(scene_json, data, t.path / "scene-nodig.json");
   std::vector<fs::path> plans;
   for (const auto& e : fs::directory_iterator(data / "plans")) plans.push_back(e.path());
   std::sort(plans.begin(), plans.end());
@@ -400,7 +411,6 @@ TEST(ApiDataset, DefaultPlansEqualVerify) {
   std::string args = "\"" + nodig.string() + "\"";
   for (const auto& p : plans) args += " \"" + p.string() + "\"";
   const int status = run_verify(args + " --out \"" + (t.path / "out").string() + "\"");
-  fs::remove(nodig);
   ASSERT_LE(status, 1);
   const nlohmann::json report = nlohmann::json::parse(read_text(t.path / "out" / "report.json"));
 
@@ -459,9 +469,7 @@ TEST(ApiDataset, DefaultPlansEqualVerify) {
         one_state_plans += " \"" + plan.string() + "\"";
         picked.push_back(state);
       }
-  write_text(nodig, scene_json.dump(2));
   const int single_status = run_verify("\"" + nodig.string() + "\"" + one_state_plans + " --out \"" + (t.path / "out1").string() + "\"");
-  fs::remove(nodig);
   ASSERT_LE(single_status, 1);
   const auto picked_results = checker.check_batch(picked);
   for (std::size_t i = 0; i < picked.size(); ++i) {
@@ -742,12 +750,7 @@ TEST(ApiDataset, MotionsEqualVerifyContinuous) {
   nlohmann::ordered_json scene_json = nlohmann::ordered_json::parse(read_text(data / "scene.json"));
   scene_json.erase("scoop");
   TempDir t;
-  const fs::path nodig = data / ("scene-nodig-motion-" + t.path.filename().string() + ".json");
-  write_text(nodig, scene_json.dump(2));
-  struct Removed {
-    fs::path p;
-    ~Removed() { fs::remove(p); }
-  } removed{nodig};
+  const fs::path nodig = nodig_copy(scene_json, data, t.path / "scene-nodig.json");
   const plancheck::Scene scene = plancheck::Scene::load(nodig.string());
 
   std::vector<Motion> motions;
