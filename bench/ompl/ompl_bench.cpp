@@ -253,6 +253,39 @@ void segment_table(const Arm& a, std::size_t want) {
   };
   row("planned paths", 0, planned);
   std::fflush(stdout);
+  {
+    // The same segments timed one by one (three passes in order, as the
+    // rows above run them, each segment's best): how the time spreads.
+    std::vector<double> tm(planned, 1e300), td(planned, 1e300);
+    for (int rep = 0; rep < 3; ++rep)
+      for (std::size_t i = 0; i < planned; ++i) {
+        auto t0 = Clock::now();
+        const bool ok = a.checker->check_motion(segs[i].first, segs[i].second, plancheck::MotionOptions{true, true})
+                            .verdict == plancheck::Verdict::kSafe;
+        tm[i] = std::min(tm[i], since(t0));
+        ompl_state(segs[i].first, s1);
+        ompl_state(segs[i].second, s2);
+        t0 = Clock::now();
+        if (discrete->checkMotion(s1.get(), s2.get()) < ok) die("certified safe but a discrete sample is not");
+        td[i] = std::min(td[i], since(t0));
+      }
+    std::vector<double> ratio(planned), dear = tm;
+    for (std::size_t i = 0; i < planned; ++i) ratio[i] = tm[i] / td[i];
+    std::sort(ratio.begin(), ratio.end());
+    std::sort(dear.rbegin(), dear.rend());
+    double all = 0.0;
+    for (double x : dear) all += x;
+    auto share = [&](double fraction) {
+      double s = 0.0;
+      for (std::size_t i = 0; i < static_cast<std::size_t>(fraction * static_cast<double>(planned) + 0.5); ++i) s += dear[i];
+      return 100.0 * s / all;
+    };
+    auto at = [&](double q) { return ratio[static_cast<std::size_t>(q * static_cast<double>(planned - 1))]; };
+    std::printf("planned paths one by one: check_motion / discrete per segment, median %.2f, 90th percentile %.2f, "
+                "largest %.1f; the dearest 1%% of segments take %.0f%% of check_motion's time, the dearest 10%% %.0f%%\n",
+                at(0.5), at(0.9), ratio.back(), share(0.01), share(0.1));
+    std::fflush(stdout);
+  }
   row("random near pairs", planned, segs.size());
   // By length (the discrete validator's sample count): sort a copy.
   std::vector<std::size_t> order(planned);
