@@ -58,6 +58,23 @@ struct ContinuousOptions {
   bool dig_carry = false;
 };
 
+// A lower bound of a pair's distance D(t) over a piece [t1, t2] of a
+// segment (t in segment units, 0 to 1) from lower bounds v1 <= D(t1), v2 <=
+// D(t2), `rate` bounding the speed of every point of either part relative
+// to the other and `accel` their relative acceleration (per unit of t, and
+// of t squared). First order (conservative advancement): D(t) >= max(v1 -
+// rate (t - t1), v2 - rate (t2 - t)), at least g = min(v1, v2, (v1 + v2 -
+// rate (t2 - t1)) / 2) over the piece. Second order, when g > 0: for the
+// closest point pair at any t of the piece, y(t) their difference, |y| is
+// at least g over the whole piece and |y|'' = (|y'|^2 - (u . y')^2) / |y|
+// + u . y'' <= rate^2 / g + accel = K (u = y / |y|), so |y| lies above its
+// chord less K (t - t1) (t2 - t) / 2; D(t) = |y(t)| and D(t1,2) <= |y(t1,2)|
+// give D(t) >= the chord of v1, v2 less the same. Where a pair runs along
+// the margin (v - target small against the distance), the second order
+// certifies pieces about sqrt(distance / (v - target)) times longer.
+// Returns the larger of the two (NaN in, NaN or less out).
+double piece_lower_bound(double t1, double v1, double t2, double v2, double rate, double accel);
+
 // Segment checks on one Checker; immutable, shared by threads.
 class SegmentChecker {
  public:
@@ -197,11 +214,22 @@ class SegmentChecker {
     std::vector<PartMove>& parts_;
   };
 
+  // How far the rotations turn from qa to qb, summed (rad); +infinity when
+  // a scale action moves or an input is not finite. Every point's
+  // acceleration is at most twice this times its speed bound (per unit of
+  // t: the parameters move linearly, so each action's value moves at a
+  // constant rate; a rotation's second derivative is at most the point's
+  // lever about it, the cross terms with the rotations outside it at most
+  // its lever about the inner action).
+  double turning(const std::vector<double>& qa, const std::vector<double>& qb) const;
+
   const Checker& checker_;
   const MotionBound& bound_;  // the checker's
   std::vector<std::pair<int, int>> pairs_;
   MotionBound::PairPlan plan_;  // pairs_ for MotionBound::pair_bounds
   std::vector<int> moving_;  // parts of some pair that have a chain
+  std::vector<std::pair<int, double>> turns_;  // per rotation: its parameter, rad per plan unit (a mimic's multiplier in)
+  std::vector<int> scale_parameters_;          // the parameters of scale actions
   double margin_;
   ContinuousOptions options_;
 };
