@@ -70,8 +70,8 @@ struct ContinuousOptions {
 // + u . y'' <= rate^2 / g + accel = K (u = y / |y|), so |y| lies above its
 // chord less K (t - t1) (t2 - t) / 2; D(t) = |y(t)| and D(t1,2) <= |y(t1,2)|
 // give D(t) >= the chord of v1, v2 less the same. Where a pair runs along
-// the margin (v - target small against the distance), the second order
-// certifies pieces about sqrt(distance / (v - target)) times longer.
+// the margin (v - target small against the distance g), the second order
+// certifies pieces about sqrt(2 g / (v - target)) times longer.
 // Returns the larger of the two (NaN in, NaN or less out).
 double piece_lower_bound(double t1, double v1, double t2, double v2, double rate, double accel);
 
