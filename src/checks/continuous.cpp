@@ -12,6 +12,7 @@
 #include "src/checks/continuous.h"
 
 #include "src/base/parallel.h"
+#include "src/checks/swept_clusters.h"
 #include "src/checks/regolith.h"
 #include "src/scene/plan.h"
 
@@ -619,6 +620,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     std::vector<double> own_bounds, gap, guard, q;
     PosedParts posed;
     PoseRates::Storage rates;
+    SweptClusters swept;
   };
   thread_local Workspace ws;
   std::vector<double>& own_bounds = ws.own_bounds;
@@ -639,6 +641,10 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     // the turning times the rate: SegmentChecker::turning), for the second
     // order of piece_lower_bound; +infinity: first order only.
     double accel = std::numeric_limits<double>::infinity();
+    // Proven by SweptClusters over the whole segment (a moving part far
+    // from a static one): a lower bound of its distance, at least what the
+    // first piece asks; -infinity: none.
+    double clear = -std::numeric_limits<double>::infinity();
     bool live = false;  // checked at all (not an empty part, not a missing terrain)
     bool seeded = false;
     std::uint32_t slot_a = 0, slot_b = 0;
@@ -694,21 +700,39 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   for (const Sample* e : {&end0, &end1})
     if (!e->bound) note_sample(e->d, e->a, e->b);
   const double floor_a = std::min(end0.d, e_limit), floor_b = std::min(end1.d, e_limit);
-  // A pair whose bound would leave it sampling more than a few times
-  // (kTight: its motion bound beyond that many times the room its ends
-  // leave above the first pass's target) marches at the rate read from the
-  // poses themselves (PoseRates) when that is lower: fewer samples for the
-  // same certificate. Decided per pair from its own data, so on any number
-  // of threads; e_limit and the ends' floors stay the bounds'.
+  // A moving part's pair with a static mesh that its ends do not certify
+  // is first tried whole by SweptClusters (no search; most such pairs pass
+  // far apart). Else a pair whose bound would leave it sampling more than
+  // a few times (kTight: its motion bound beyond that many times the room
+  // its ends leave above the first pass's target) marches at the rate read
+  // from the poses themselves (PoseRates) when that is lower: fewer
+  // samples for the same certificate. Decided per pair from its own data,
+  // so on any number of threads; e_limit and the ends' floors stay the
+  // bounds'.
   {
     const double target = margin_ > 0.0 ? margin_ : 0.0;
     PoseRates poses(*this, qa, qb, posed, ws.rates);
+    ws.swept.start(checker_, qa, qb);
+    const int n_parts = static_cast<int>(checker_.part_count());
+    auto still = [&](int x) {
+      return x >= 0 && x < n_parts && x != checker_.terrain_index() &&
+             std::find(moving_.begin(), moving_.end(), x) == moving_.end();
+    };
     for (std::size_t k = 0; k < np; ++k) {
       PairData& p = pd[k];
       const double va = std::max(p.gap_a, floor_a), vb = std::max(p.gap_b, floor_b);
       const double guard = std::max(p.guard_a, p.guard_b);
       const double room = va + vb - 2.0 * (target + guard);
-      if (!p.live || p.rate <= kTight * room) continue;
+      if (!p.live || p.rate <= room) continue;  // the ends certify it (first order)
+      const auto [a, b] = pairs_[k];
+      const bool a_still = still(a), b_still = still(b);
+      if (a_still != b_still) {
+        const int moving = a_still ? b : a, other = a_still ? a : b;
+        const auto& box = posed.box[static_cast<std::size_t>(other)];  // a static part's, as at either end
+        p.clear = ws.swept.clear(moving, box.first, box.second, target + guard);
+        if (p.clear >= target + guard) continue;
+      }
+      if (p.rate <= kTight * room) continue;
       // Clusters left out must stay a micrometre clear of what any piece
       // asks (target plus its guard), so that they never hold up a piece.
       const PoseRates::Rate r = poses.of(k, target + 4.0 * guard + 1e-6);
@@ -752,8 +776,8 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   // the second order's divisions cost more than the rest of the test).
   auto piece_bound = [&](const Point& x, const Point& y, const PairData& p, double enough) {
     const double first = std::min({x.v, y.v, 0.5 * (x.v + y.v - p.rate * (y.t - x.t))});
-    if (!(first < enough)) return std::min(first, p.far);
-    return std::min(piece_lower_bound(x.t, x.v, y.t, y.v, p.rate, p.accel), p.far);
+    if (!(first < enough) || p.clear >= enough) return std::max(std::min(first, p.far), p.clear);
+    return std::max(std::min(piece_lower_bound(x.t, x.v, y.t, y.v, p.rate, p.accel), p.far), p.clear);
   };
   constexpr double kAll = std::numeric_limits<double>::infinity();
   // What one pair's march needs of its own (one per thread when pairs march

@@ -48,7 +48,7 @@ void split(std::vector<T>& v, std::size_t from, std::size_t to, int depth, std::
 
 }  // namespace
 
-BoxMotion::BoxMotion(const Scene& scene, Points points) : scene_(scene), fallback_(scene) {
+BoxMotion::BoxMotion(const Scene& scene, Points points) : scene_(scene), points_(points), fallback_(scene) {
   parts_.resize(scene.parts.size());
   for (std::size_t i = 0; i < scene.parts.size(); ++i) {
     const Part& part = scene.parts[i];
@@ -125,6 +125,14 @@ BoxMotion::BoxMotion(const Scene& scene, Points points) : scene_(scene), fallbac
 std::size_t BoxMotion::clusters(int part) const {
   if (part < 0 || static_cast<std::size_t>(part) >= parts_.size()) return 0;
   return parts_[static_cast<std::size_t>(part)].clusters.size();
+}
+
+void BoxMotion::spheres(int part, std::vector<Sphere>& out) const {
+  out.clear();
+  if (part < 0 || static_cast<std::size_t>(part) >= parts_.size()) return;
+  const PartData& d = parts_[static_cast<std::size_t>(part)];
+  if (!d.rigid) return;
+  for (const Cluster& c : d.clusters) out.push_back({c.centre, c.radius});
 }
 
 BoxMotion::Lever BoxMotion::lever(int part, std::span<const double> lo, std::span<const double> hi,

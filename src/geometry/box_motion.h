@@ -48,6 +48,16 @@ class BoxMotion {
 
   // The clusters one part's vertices are split into (statistics, tests).
   std::size_t clusters(int part) const;
+  // Their spheres in the part's reference frame: empty for a static part,
+  // one with no triangles, or one with a scale action in its chain (posed,
+  // its spheres would not stay spheres). With kTriangles every point of
+  // every triangle of the part lies in one of them.
+  struct Sphere {
+    Vec3 centre = Vec3::Zero();
+    double radius = 0.0;
+  };
+  void spheres(int part, std::vector<Sphere>& out) const;
+  Points points() const { return points_; }
 
   static constexpr std::size_t kMaxChain = 64;
   // reach's work for one box, kept to bound single points of the part
@@ -98,6 +108,7 @@ class BoxMotion {
     std::vector<Cluster> clusters;
   };
   const Scene& scene_;
+  Points points_;
   MotionBound fallback_;
   std::vector<PartData> parts_;
 };

@@ -122,12 +122,34 @@ std::size_t MotionBound::shared_actions(int a, int b) const {
   return common;
 }
 
-double MotionBound::bound_from(int part, std::size_t first, std::span<const double> qa,
-                               std::span<const double> qb) const {
+double MotionBound::sphere_bound(int part, const Vec3& centre, double radius, std::span<const double> qa,
+                                 std::span<const double> qb) const {
   if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return 0.0;
   const Part& p = scene_.parts[static_cast<std::size_t>(part)];
   if (!p.moving()) return 0.0;
-  const PartExtent& e = extents_[static_cast<std::size_t>(part)];
+  // The extent's innermost radius and arm from the sphere itself: every
+  // point x of it has |x - c| <= |centre - c| + radius, and so for its
+  // distance from the innermost rotation's axis.
+  const Action& inner = scene_.actions[static_cast<std::size_t>(p.chain.back())];
+  const Vec3 c = inner.type == ActionType::kScale ? inner.fixed_point : inner.pivot;
+  PartExtent e;
+  e.centre = centre;
+  e.radius = radius;
+  e.inner_radius = (centre - c).norm() + radius;
+  if (inner.type == ActionType::kRotate) e.inner_arm = line_distance(centre, inner.pivot, inner.axis) + radius;
+  return bound_from(part, e, 0, qa, qb);
+}
+
+double MotionBound::bound_from(int part, std::size_t first, std::span<const double> qa,
+                               std::span<const double> qb) const {
+  if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return 0.0;
+  if (!scene_.parts[static_cast<std::size_t>(part)].moving()) return 0.0;
+  return bound_from(part, extents_[static_cast<std::size_t>(part)], first, qa, qb);
+}
+
+double MotionBound::bound_from(int part, const PartExtent& e, std::size_t first, std::span<const double> qa,
+                               std::span<const double> qb) const {
+  const Part& p = scene_.parts[static_cast<std::size_t>(part)];
 
   // Innermost action first: the sphere holding the points action i sees.
   Vec3 z = e.centre;

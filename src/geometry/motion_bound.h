@@ -25,6 +25,15 @@ class MotionBound {
   // static parts. Padded for rounding; +infinity when an input is not finite.
   double part_bound(int part, std::span<const double> qa, std::span<const double> qb) const;
 
+  // part_bound for the points of `part` within the sphere (centre, radius)
+  // of its reference frame (a cluster of its triangles, BoxMotion::spheres):
+  // the same bound with that sphere in place of the part's extent, so at
+  // most part_bound's for a sphere holding the part. Per unit of t it
+  // bounds those points' speed anywhere on the segment (the parameters
+  // move linearly; every lever is read for any pose).
+  double sphere_bound(int part, const Vec3& centre, double radius, std::span<const double> qa,
+                      std::span<const double> qb) const;
+
   // An upper bound (m) on how much the distance between parts a and b can
   // change over the same motion: the sum of their part_bound, except that
   // the actions both chains begin with, when all rigid (rotations and
@@ -61,6 +70,9 @@ class MotionBound {
   // part_bound over the chain's actions from index `first` inward (the
   // motion in the frame the first `first` actions map into the world).
   double bound_from(int part, std::size_t first, std::span<const double> qa, std::span<const double> qb) const;
+  // The same for points within extent e of the part.
+  double bound_from(int part, const PartExtent& e, std::size_t first, std::span<const double> qa,
+                    std::span<const double> qb) const;
   // The common prefix of a's and b's chains that moves both alike.
   std::size_t shared_actions(int a, int b) const;
 

@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: MIT
+#include "src/checks/swept_clusters.h"
+
+#include "src/scene/plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace plancheck {
+
+namespace {
+constexpr int kTimes = 1 << SweptClusters::kLevels;  // finest pieces
+static_assert(kTimes < 64, "one bit per time in PartData::posed");
+}  // namespace
+
+void SweptClusters::start(const Checker& checker, const std::vector<double>& qa, const std::vector<double>& qb) {
+  checker_ = &checker;
+  qa_ = &qa;
+  qb_ = &qb;
+  parts_.resize(checker.part_count());
+  for (PartData& d : parts_) d.known = false;
+}
+
+SweptClusters::PartData& SweptClusters::part(int index) {
+  PartData& d = parts_[static_cast<std::size_t>(index)];
+  if (d.known) return d;
+  d.known = true;
+  d.usable = false;
+  d.posed = 0;
+  const BoxMotion& box = checker_->box_motion();
+  // Only spheres that hold whole triangles bound every point of the part.
+  if (box.points() != BoxMotion::Points::kTriangles) return d;
+  box.spheres(index, d.spheres);
+  if (d.spheres.empty()) return d;
+  d.speed.resize(d.spheres.size());
+  for (std::size_t i = 0; i < d.spheres.size(); ++i) {
+    d.speed[i] = checker_->motion_bound().sphere_bound(index, d.spheres[i].centre, d.spheres[i].radius, *qa_, *qb_);
+    if (!(d.speed[i] < std::numeric_limits<double>::infinity())) return d;  // NaN or infinite
+  }
+  d.centre.resize(d.spheres.size() * (kTimes + 1));
+  d.usable = true;
+  return d;
+}
+
+const Vec3* SweptClusters::centres(PartData& d, int index, int m) {
+  const std::size_t k = d.spheres.size();
+  Vec3* out = &d.centre[static_cast<std::size_t>(m) * k];
+  if (d.posed >> m & 1) return out;
+  d.posed |= std::uint64_t{1} << m;
+  const std::vector<double>* q = qa_;
+  if (m == kTimes) {
+    q = qb_;
+  } else if (m > 0) {
+    state_between(*qa_, *qb_, static_cast<double>(m) / kTimes, q_);
+    q = &q_;
+  }
+  one_[0] = index;
+  checker_->pose_parts(*q, posed_, one_);
+  const Affine& pose = *posed_.pose[static_cast<std::size_t>(index)];
+  for (std::size_t i = 0; i < k; ++i) out[i] = pose * d.spheres[i].centre;
+  return out;
+}
+
+bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& blo, const Vec3& bhi, double target,
+                          double& least) {
+  // Posed at the piece's middle, each point within speed * length / 2 of
+  // where it is there; a finest piece is posed at its start and reaches
+  // its whole length (its middle is not one of the times).
+  const double length = static_cast<double>(hi - lo) / kTimes;
+  const int m = hi - lo >= 2 ? (lo + hi) / 2 : lo;
+  const double reach = hi - lo >= 2 ? 0.5 * length : length;
+  const Vec3* c = centres(d, index, m);
+  double bound = std::numeric_limits<double>::infinity();
+  // Whether cluster i's ball, grown by `piece_reach`, fails the test at
+  // its centre here. Failing it with the finest piece's reach (the test of
+  // the finest piece from time m, the very same numbers), the segment
+  // cannot be proven: nothing is halved.
+  auto fails = [&](std::size_t i, double gap2, double piece_reach) {
+    const double grow = d.spheres[i].radius + d.speed[i] * piece_reach;
+    // Rounding: of the posed centre and of the sums here, far below this.
+    const double pad = 1e-9 * (c[i].cwiseAbs().maxCoeff() + grow + 1.0);
+    const double need = target + grow + pad;
+    return !(gap2 >= need * need);  // true for NaN
+  };
+  for (std::size_t i = 0; i < d.spheres.size(); ++i) {
+    const double gap2 = (blo - c[i]).cwiseMax(c[i] - bhi).cwiseMax(Vec3::Zero()).squaredNorm();
+    if (fails(i, gap2, reach)) {
+      if (hi - lo <= 1 || fails(i, gap2, 1.0 / kTimes)) return false;
+      const int mid = (lo + hi) / 2;
+      return piece(d, index, lo, mid, blo, bhi, target, least) && piece(d, index, mid, hi, blo, bhi, target, least);
+    }
+    const double grow = d.spheres[i].radius + d.speed[i] * reach;
+    bound = std::min(bound, std::sqrt(gap2) - grow - 1e-9 * (c[i].cwiseAbs().maxCoeff() + grow + 1.0));
+  }
+  least = std::min(least, bound);
+  return true;
+}
+
+double SweptClusters::clear(int part_index, const Vec3& lo, const Vec3& hi, double target) {
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  if (!checker_ || part_index < 0 || static_cast<std::size_t>(part_index) >= parts_.size() || !(target >= 0.0))
+    return kNone;
+  PartData& d = part(part_index);
+  if (!d.usable) return kNone;
+  double least = std::numeric_limits<double>::infinity();
+  if (!piece(d, part_index, 0, kTimes, lo, hi, target, least)) return kNone;
+  // Each piece's test proved its balls at least target apart (squared, with
+  // the pad); the bound read from it may round a hair below.
+  return std::max(least, target);
+}
+
+}  // namespace plancheck
