@@ -73,9 +73,11 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
   const Vec3* c = centres(d, index, m);
   double bound = std::numeric_limits<double>::infinity();
   // Whether cluster i's ball, grown by `piece_reach`, fails the test at
-  // its centre here. Failing it with the finest piece's reach (the test of
-  // the finest piece from time m, the very same numbers), the segment
-  // cannot be proven: nothing is halved.
+  // its centre here. Where it fails even with the finest piece's reach
+  // (the test of the finest piece from time m, the same numbers), the
+  // whole is hardly provable: nothing is halved. That costs a missed
+  // shortcut at most (the pair then marches) and saves the poses of every
+  // level below.
   auto fails = [&](std::size_t i, double gap2, double piece_reach) {
     const double grow = d.spheres[i].radius + d.speed[i] * piece_reach;
     // Rounding: of the posed centre and of the sums here, far below this.

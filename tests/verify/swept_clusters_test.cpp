@@ -5,7 +5,8 @@
 // asked for the most it can prove (the largest target it answers, found by
 // bisection), and that bound is checked at 401 configurations along the
 // motion by an exact pair search below it: it must never lie above the
-// pair's distance. And MotionBound::sphere_bound, the clusters' speed,
+// pair's distance. A 1 cm cube passing under a post between clear ends
+// must be seen below the margin. And MotionBound::sphere_bound, the clusters' speed,
 // against the paths of the mesh vertices its spheres hold.
 #include "src/checks/swept_clusters.h"
 
