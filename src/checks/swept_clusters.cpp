@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "src/checks/swept_clusters.h"
 
+#include "src/scene/kinematics.h"
 #include "src/scene/plan.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 namespace plancheck {
 
@@ -19,7 +21,12 @@ void SweptClusters::start(const Checker& checker, const std::vector<double>& qa,
   qa_ = &qa;
   qb_ = &qb;
   parts_.resize(checker.part_count());
-  for (PartData& d : parts_) d.known = false;
+  const bool same = checker.instance_id() == checker_id_;
+  checker_id_ = checker.instance_id();
+  for (PartData& d : parts_) {
+    d.known = false;
+    d.spheres_known = d.spheres_known && same;
+  }
 }
 
 SweptClusters::PartData& SweptClusters::part(int index) {
@@ -28,14 +35,30 @@ SweptClusters::PartData& SweptClusters::part(int index) {
   d.known = true;
   d.usable = false;
   d.posed = 0;
-  const BoxMotion& box = checker_->box_motion();
-  // Only spheres that hold whole triangles bound every point of the part.
-  if (box.points() != BoxMotion::Points::kTriangles) return d;
-  box.spheres(index, d.spheres);
+  const MotionBound& bound = checker_->motion_bound();
+  if (!d.spheres_known) {
+    d.spheres_known = true;
+    const BoxMotion& box = checker_->box_motion();
+    d.spheres.clear();
+    d.levers.clear();
+    // Only spheres that hold whole triangles bound every point of the part.
+    if (box.points() == BoxMotion::Points::kTriangles) box.spheres(index, d.spheres);
+    std::vector<double> levers;
+    for (const BoxMotion::Sphere& s : d.spheres) {
+      if (!bound.sphere_levers(index, s.centre, s.radius, levers)) {
+        d.levers.clear();
+        break;
+      }
+      d.levers.insert(d.levers.end(), levers.begin(), levers.end());
+    }
+  }
   if (d.spheres.empty()) return d;
   d.speed.resize(d.spheres.size());
+  const std::size_t chain = d.levers.size() / d.spheres.size();
   for (std::size_t i = 0; i < d.spheres.size(); ++i) {
-    d.speed[i] = checker_->motion_bound().sphere_bound(index, d.spheres[i].centre, d.spheres[i].radius, *qa_, *qb_);
+    d.speed[i] = d.levers.empty()
+                     ? bound.sphere_bound(index, d.spheres[i].centre, d.spheres[i].radius, *qa_, *qb_)
+                     : bound.levers_bound(index, std::span<const double>(d.levers).subspan(i * chain, chain), *qa_, *qb_);
     if (!(d.speed[i] < std::numeric_limits<double>::infinity())) return d;  // NaN or infinite
   }
   d.centre.resize(d.spheres.size() * (kTimes + 1));
@@ -55,9 +78,8 @@ const Vec3* SweptClusters::centres(PartData& d, int index, int m) {
     state_between(*qa_, *qb_, static_cast<double>(m) / kTimes, q_);
     q = &q_;
   }
-  one_[0] = index;
-  checker_->pose_parts(*q, posed_, one_);
-  const Affine& pose = *posed_.pose[static_cast<std::size_t>(index)];
+  // The part's transform alone (pose_parts' for one part, without its box).
+  const Affine pose = part_transform(checker_->scene(), index, *q);
   for (std::size_t i = 0; i < k; ++i) out[i] = pose * d.spheres[i].centre;
   return out;
 }

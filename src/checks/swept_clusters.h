@@ -45,9 +45,15 @@ class SweptClusters {
 
  private:
   struct PartData {
+    // The checker's (kept while it is the same checker): the spheres, and
+    // with a chain of rotations, their levers (MotionBound::sphere_levers,
+    // one row per sphere).
+    bool spheres_known = false;
+    std::vector<BoxMotion::Sphere> spheres;
+    std::vector<double> levers;
+    // The segment's.
     bool known = false;
     bool usable = false;
-    std::vector<BoxMotion::Sphere> spheres;
     std::vector<double> speed;  // per sphere: its points' path per unit of t
     std::vector<Vec3> centre;   // per time m / 2^kLevels and sphere: the sphere's centre posed
     std::uint64_t posed = 0;    // bit m: centre at time m computed
@@ -60,12 +66,11 @@ class SweptClusters {
              double& least);
 
   const Checker* checker_ = nullptr;
+  std::uint64_t checker_id_ = 0;  // Checker::instance_id() the parts' spheres are of
   const std::vector<double>* qa_ = nullptr;
   const std::vector<double>* qb_ = nullptr;
   std::vector<PartData> parts_;
   std::vector<double> q_;
-  PosedParts posed_;
-  std::vector<int> one_ = std::vector<int>(1);
 };
 
 }  // namespace plancheck

@@ -279,6 +279,8 @@ class Checker {
   // A number of this checker's own (never 0, never another checker's, a
   // copy's included): what per-thread caches of its answers are keyed by.
   std::uint64_t instance_id() const { return id_.value; }
+  // The scene it was built from (its parts and chains: what poses them).
+  const Scene& scene() const { return scene_; }
   std::size_t triangle_count() const;
   std::size_t memory_bytes() const;
   // Static triangles left out at build time: beyond the reach of every

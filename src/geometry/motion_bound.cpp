@@ -140,6 +140,41 @@ double MotionBound::sphere_bound(int part, const Vec3& centre, double radius, st
   return bound_from(part, e, 0, qa, qb);
 }
 
+bool MotionBound::sphere_levers(int part, const Vec3& centre, double radius, std::vector<double>& levers) const {
+  levers.clear();
+  if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return false;
+  const Part& p = scene_.parts[static_cast<std::size_t>(part)];
+  if (!p.moving()) return false;
+  for (const int a : p.chain)
+    if (scene_.actions[static_cast<std::size_t>(a)].type != ActionType::kRotate) return false;
+  // bound_from's arms for the sphere's extent (sphere_bound), innermost
+  // first: with rotations only, z and rho do not read the parameters.
+  levers.resize(p.chain.size());
+  Vec3 z = centre;
+  double rho = radius;
+  for (std::size_t n = p.chain.size(); n-- > 0;) {
+    const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
+    const bool innermost = n + 1 == p.chain.size();
+    levers[n] = innermost ? line_distance(centre, a.pivot, a.axis) + radius : line_distance(z, a.pivot, a.axis) + rho;
+    rho = innermost ? (centre - a.pivot).norm() + radius : (z - a.pivot).norm() + rho;
+    z = a.pivot;
+  }
+  return true;
+}
+
+double MotionBound::levers_bound(int part, std::span<const double> levers, std::span<const double> qa,
+                                 std::span<const double> qb) const {
+  const Part& p = scene_.parts[static_cast<std::size_t>(part)];
+  // bound_from's sum for rotations (every linear norm 1), in its order.
+  double total = 0.0;
+  for (std::size_t n = 0; n < p.chain.size(); ++n) {
+    const Action& a = scene_.actions[static_cast<std::size_t>(p.chain[n])];
+    total += 1.0 * (std::abs(driving_value(scene_, a, qb) - driving_value(scene_, a, qa)) * a.unit_to_si * levers[n]);
+  }
+  if (!std::isfinite(total)) return std::numeric_limits<double>::infinity();
+  return total * (1.0 + 1e-9) + 1e-12;
+}
+
 double MotionBound::bound_from(int part, std::size_t first, std::span<const double> qa,
                                std::span<const double> qb) const {
   if (part < 0 || static_cast<std::size_t>(part) >= scene_.parts.size()) return 0.0;

@@ -34,6 +34,15 @@ class MotionBound {
   double sphere_bound(int part, const Vec3& centre, double radius, std::span<const double> qa,
                       std::span<const double> qb) const;
 
+  // sphere_bound in two steps, for many spheres of a part over many
+  // motions: the lever each action of the part's chain (root first) turns
+  // the sphere's points about, which for rotations does not depend on the
+  // pose (false, levers empty, when the chain has any other action), then
+  // a motion's bound from them: sphere_bound's value, bit for bit.
+  bool sphere_levers(int part, const Vec3& centre, double radius, std::vector<double>& levers) const;
+  double levers_bound(int part, std::span<const double> levers, std::span<const double> qa,
+                      std::span<const double> qb) const;
+
   // An upper bound (m) on how much the distance between parts a and b can
   // change over the same motion: the sum of their part_bound, except that
   // the actions both chains begin with, when all rigid (rotations and

@@ -6,7 +6,8 @@
 // bisection), and that bound is checked at 401 configurations along the
 // motion by an exact pair search below it: it must never lie above the
 // pair's distance. A 1 cm cube passing under a post between clear ends
-// must be seen below the margin. And MotionBound::sphere_bound, the clusters' speed,
+// must be seen below the margin. MotionBound::sphere_levers and
+// levers_bound give sphere_bound's value. And MotionBound::sphere_bound, the clusters' speed,
 // against the paths of the mesh vertices its spheres hold.
 #include "src/checks/swept_clusters.h"
 
@@ -177,16 +178,28 @@ TEST(SweptClusters, SphereBoundHoldsTheVerticesPaths) {
     ArmSegments random(scene, urdf ? 5 : 7);
     std::vector<BoxMotion::Sphere> spheres;
     std::vector<double> qa, qb, q;
-    int checked = 0;
+    int checked = 0, by_levers = 0;
     for (int i = 0; i < 20; ++i) {
       random.next(i % 2 == 0 ? 0.2 : 1.0, qa, qb);
       for (std::size_t part = 0; part < scene.parts.size(); ++part) {
         if (!scene.parts[part].moving()) continue;
         box.spheres(static_cast<int>(part), spheres);
         ASSERT_FALSE(spheres.empty());
-        std::vector<double> speed;
-        for (const auto& s : spheres)
-          speed.push_back(checker.motion_bound().sphere_bound(static_cast<int>(part), s.centre, s.radius, qa, qb));
+        std::vector<double> speed, levers;
+        for (const auto& s : spheres) {
+          const MotionBound& bound = checker.motion_bound();
+          speed.push_back(bound.sphere_bound(static_cast<int>(part), s.centre, s.radius, qa, qb));
+          // A chain of rotations (the default arm's; the URDF arm's boom
+          // slides): the levers give the same bound, bit for bit.
+          bool rotations = true;
+          for (const int a : scene.parts[part].chain)
+            rotations = rotations && scene.actions[static_cast<std::size_t>(a)].type == ActionType::kRotate;
+          ASSERT_EQ(bound.sphere_levers(static_cast<int>(part), s.centre, s.radius, levers), rotations);
+          if (rotations) {
+            EXPECT_EQ(bound.levers_bound(static_cast<int>(part), levers, qa, qb), speed.back());
+            ++by_levers;
+          }
+        }
         const Mesh& mesh = scene.parts[part].mesh;
         // Every 7th vertex, its path over 200 steps.
         for (std::size_t v = 0; v < mesh.vertices.size(); v += 7) {
@@ -210,6 +223,9 @@ TEST(SweptClusters, SphereBoundHoldsTheVerticesPaths) {
       }
     }
     EXPECT_GT(checked, 1000);
+    if (!urdf) {
+      EXPECT_GT(by_levers, 100);
+    }
   }
 }
 
