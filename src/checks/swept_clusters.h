@@ -9,15 +9,16 @@
 // every point of cluster i stays within radius_i + speed_i (t2 - t1) / 2
 // of the cluster's centre posed at the piece's middle, speed_i being
 // MotionBound::sphere_bound for that sphere (the path it bounds is at most
-// that per unit of t anywhere on the motion). So when every cluster's ball
+// that per unit of t anywhere on the motion; for a chain of rotations from
+// its levers, kept per checker: levers_bound, the same value). So when every cluster's ball
 // so grown keeps `target` from the box, the part does on the whole piece.
 // Pieces that fail are halved, down to 1/32 of the segment: the part is
 // posed at most 33 times, once per time, for all the boxes it is tested
 // against.
 //
-// On the default arm's planned OMPL edges 65 of the 72 pairs per edge
-// that the ends do not certify pass far enough to be proven here; each
-// cost a pair search or more before (docs/planning.md).
+// On the default arm's planned OMPL edges, 71 of the 74 pairs per edge of
+// a moving part and a static mesh that the ends do not certify are proven
+// here; each cost a pair search or more before (docs/planning.md).
 #pragma once
 
 #include "src/checks/verify.h"
