@@ -73,13 +73,20 @@ void farthest_first(T* items, int n, Key key) noexcept {
 //                                        the best any more, stop
 //   int split(const Pair&, Pair* kids);  children with their lower2, any order
 // The descent from the pairs on `stack` (nearest on top).
+// A query with `void pruned(double lower2)` is told the bound of every pair
+// it drops without visiting (the least of them bounds what it did not look
+// at).
 template <class Q>
 void distance_descent_from(Q& q, std::vector<typename Q::Pair>& stack) {
   using Pair = typename Q::Pair;
+  constexpr bool kTell = requires(Q& x) { x.pruned(0.0); };
   while (!stack.empty()) {
     const Pair p = stack.back();
     stack.pop_back();
-    if (!(p.lower2 < q.best2())) continue;
+    if (!(p.lower2 < q.best2())) {
+      if constexpr (kTell) q.pruned(p.lower2);
+      continue;
+    }
     q.visited();
     if (q.leaf_pair(p)) {
       if (!q.leaves(p)) return;
@@ -89,8 +96,12 @@ void distance_descent_from(Q& q, std::vector<typename Q::Pair>& stack) {
     const int n = q.split(p, kids);
     // Closest pair on top of the stack: visited first, it tightens the bound.
     farthest_first(kids, n, [](const Pair& c) { return c.lower2; });
-    for (int k = 0; k < n; ++k)
-      if (kids[k].lower2 < q.best2()) stack.push_back(kids[k]);
+    for (int k = 0; k < n; ++k) {
+      if (kids[k].lower2 < q.best2())
+        stack.push_back(kids[k]);
+      else if constexpr (kTell)
+        q.pruned(kids[k].lower2);
+    }
   }
 }
 

@@ -1403,7 +1403,7 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   const bool seeded = out.seeded;
   const std::uint32_t seed_a = out.slot_a, seed_b = out.slot_b;
   out = PairAnswer{};
-  out.distance = std::numeric_limits<double>::infinity();
+  out.distance = out.beyond = std::numeric_limits<double>::infinity();
   if (p.empty) return;  // never checked: no bound from it
   const int a = p.a, b = p.b;
   const bool on_terrain = b == terrain_index_;
@@ -1415,7 +1415,7 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   const double gap = box_gap(box_a, box_b);
   out.guard = magnitude_guard(part_magnitude(a, box_a.lo, box_a.hi), part_magnitude(b, box_b.lo, box_b.hi));
   if (gap >= need) {  // beyond the need by the boxes
-    out.distance = gap;
+    out.distance = out.beyond = gap;
     return;
   }
   DistanceRequest q{need, rel_tolerance, kDistanceTieTolerance};
@@ -1450,6 +1450,7 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
     // As check_pairs proves a pair it searched below q.upper_bound.
     out.distance = std::max({gap, need / (1.0 + rel_tolerance) - q.abs_tolerance - out.guard, 0.0});
   }
+  out.beyond = r.found ? out.distance : std::max(out.distance, r.beyond - q.abs_tolerance - out.guard);
 }
 
 void Checker::pair_crossings(const PosedParts& posed, std::size_t k, std::size_t max,

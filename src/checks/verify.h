@@ -245,6 +245,13 @@ struct PairAnswer {
   double distance = 0.0;   // m: the exact distance, or a proven lower bound; 0 in contact
   double upper = std::numeric_limits<double>::infinity();  // m: an upper bound (a distance found)
   double guard = kDistanceTolerance;  // what settles a margin comparison of this pair in double
+  // Where nothing was found below the need and the search proved more on
+  // its way (DistanceResult::beyond: its root boxes, or the node pairs it
+  // dropped): that lower bound less the guard, at least `distance`; equal
+  // to `distance` otherwise. Kept apart from `distance` so that the callers
+  // that report it (sweeps) read what they always did; the motion march
+  // takes it as a sample's bound.
+  double beyond = 0.0;
   // The closest triangle pair as model slots (valid when exact): read as a
   // seed when seeded is true, written when exact.
   bool seeded = false;

@@ -987,6 +987,20 @@ struct DistanceQuery {
   double best2_ = cut * cut;
   bool first_below = false;
   bool found = false;
+  // Where nothing is found: the pairs dropped unvisited (pair_traversal.h)
+  // and, where leaf pairs were visited, the cut (each of their triangle
+  // pairs was kept from the best by a bound at least that) bound the
+  // distance from below (beyond(); 0 when nothing is known).
+  double floor2 = std::numeric_limits<double>::infinity();
+  bool leaves_seen = false;
+  void pruned(double l2) {
+    if (!(l2 >= floor2)) floor2 = l2;  // a NaN stays
+  }
+  double beyond() const {
+    double b = std::sqrt(floor2) * (1.0 - 1e-15);
+    if (leaves_seen) b = std::min(b, cut);
+    return b >= 0.0 && b < std::numeric_limits<double>::infinity() ? b : 0.0;
+  }
   std::uint32_t best_sa = 0, best_sb = 0;
   Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
   const LeafKernels& kernels = leaf_kernels();
@@ -1100,6 +1114,7 @@ struct DistanceQuery {
   }
 
   bool leaves(const Pair& p) {
+    leaves_seen = true;
     // Pushed when the best was farther: it may be settled now.
     if (box_settled(p.a, p.b)) return true;
     const BvhNode& x = na[p.a];
@@ -1424,8 +1439,11 @@ WorldBox world_box(const BvhNode& n, const Affine& t) {
 // of the float boxes, the poses' distance from orthonormal, kIsometryTol)
 // and far above the difference between these world poses and the working
 // frame collide_in reads (make_setup's inverse and product: a few ulps).
-bool apart(const WorldBox& a, const WorldBox& b, double reach) {
-  const Vec3 d = b.centre - a.centre;
+// b in a's axes (ObbRelative), with the centres' offset d and `scale`, the
+// size of the coordinates and extents involved (what apart's tolerance is
+// a fraction of).
+ObbRelative relative(const WorldBox& a, const WorldBox& b, Vec3& d, double& scale) {
+  d = b.centre - a.centre;
   ObbRelative q;
   for (int i = 0; i < 3; ++i) {
     const double* ai = &a.axis[3 * i];
@@ -1436,8 +1454,15 @@ bool apart(const WorldBox& a, const WorldBox& b, double reach) {
       q.abs_r[3 * i + j] = std::abs(q.r[3 * i + j]) + 1e-12;
     }
   }
-  const double scale = a.centre.cwiseAbs().sum() + b.centre.cwiseAbs().sum() + d.cwiseAbs().sum() + a.half[0] +
-                       a.half[1] + a.half[2] + b.half[0] + b.half[1] + b.half[2];
+  scale = a.centre.cwiseAbs().sum() + b.centre.cwiseAbs().sum() + d.cwiseAbs().sum() + a.half[0] + a.half[1] +
+          a.half[2] + b.half[0] + b.half[1] + b.half[2];
+  return q;
+}
+
+bool apart(const WorldBox& a, const WorldBox& b, double reach) {
+  Vec3 d;
+  double scale;
+  const ObbRelative q = relative(a, b, d, scale);
   const double tol = reach + 1e-9 * scale + 1e-300;
   // NaN or infinite poses: never apart here (collide_in decides them).
   return std::isfinite(tol) && obb_disjoint(q, a.half, b.half, tol);
@@ -1456,6 +1481,25 @@ bool roots_apart_in(const CollisionModelData& da, const Affine& ta, const Collis
   if (apart(world_box(da.bvh.nodes[0], ta), world_box(db.bvh.nodes[0], tb), reach)) return true;
   return !da.obbs.empty() && !db.obbs.empty() &&
          apart(world_box(da.obbs[0], ta), world_box(db.obbs[0], tb), reach);
+}
+
+// How far apart roots_apart_in found two parts it proved apart by more
+// than `reach`: at least reach, and at least what the six face axes and the
+// centre axis of either root box pair show (obb_lower, less apart's
+// rounding tolerance, which covers these sums too).
+double roots_beyond_in(const CollisionModelData& da, const Affine& ta, const CollisionModelData& db, const Affine& tb,
+                       double reach) {
+  double best = reach;
+  auto lower = [&](const WorldBox& a, const WorldBox& b) {
+    Vec3 d;
+    double scale;
+    const ObbRelative q = relative(a, b, d, scale);
+    const double l = obb_lower(q, d.norm(), a.half, b.half, 1e-9 * scale + 1e-300);
+    if (l > best) best = l;  // (NaN never)
+  };
+  lower(world_box(da.bvh.nodes[0], ta), world_box(db.bvh.nodes[0], tb));
+  if (!da.obbs.empty() && !db.obbs.empty()) lower(world_box(da.obbs[0], ta), world_box(db.obbs[0], tb));
+  return best;
 }
 
 }  // namespace
@@ -1500,6 +1544,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   if (request.root_cull && request.upper_bound > 0.0 && request.upper_bound < std::numeric_limits<double>::infinity() &&
       roots_apart_in(a.data(), ta, b.data(), tb, request.upper_bound)) {
     result.node_pairs_visited = 1;
+    result.beyond = roots_beyond_in(a.data(), ta, b.data(), tb, request.upper_bound);
     return;
   }
   const Setup s = make_setup(a, ta, b, tb);
@@ -1552,7 +1597,10 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
     else
       distance_descent(q, t_stack, root);
   }
-  if (!q.found) return;
+  if (!q.found) {
+    result.beyond = q.beyond();
+    return;
+  }
   report_pair(s, q.best_sa, q.best_sb, q.best_pa, q.best_pb, q.best, result);
   result.slot_a = s.swapped ? q.best_sb : q.best_sa;
   result.slot_b = s.swapped ? q.best_sa : q.best_sb;

@@ -142,6 +142,14 @@ struct DistanceResult {
   std::uint32_t slot_b = 0;
   std::uint64_t node_pairs_visited = 0;   // statistics: BVH node pairs expanded or tested
   std::uint64_t triangle_pairs_tested = 0;  // statistics: triangle distance kernels run
+  // Where nothing was found below upper_bound: a lower bound of the
+  // distance that the search proved on its way, often well beyond what the
+  // request's tolerance alone proves (upper_bound / (1 + rel_tolerance) -
+  // abs_tolerance). From the root boxes where they ended it (root_cull: at
+  // least upper_bound), else the least bound of the node pairs the descent
+  // dropped unvisited, and its cut where it visited leaf pairs. 0 where
+  // nothing is known (and where something was found).
+  double beyond = 0.0;
 };
 
 // Transforms are affine in general (scale actions); distances are Euclidean
