@@ -933,9 +933,9 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
         // below followed anyway. The OMPL bench's 1,001 planned segments
         // of the default arm: 199 -> 164 us a segment (medians of three
         // runs; the URDF arm's the same, 69 us: docs/planning.md).
-        checker_.pair_distance(s.posed, k, need * (1.0 + kMinRel), answer);
+        checker_.pair_distance(s.posed, k, need * (1.0 + kMinRel), answer, false, 0.0, true);
       } else {
-        checker_.pair_distance(s.posed, k, need * (1.0 + rel), answer, false, rel);
+        checker_.pair_distance(s.posed, k, need * (1.0 + rel), answer, false, rel, true);
         if (answer.distance < limit) {
           // Something within the factor of the limit was found (a bound
           // proven from nothing found lies above it): exact, below it,

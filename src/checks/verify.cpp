@@ -1398,7 +1398,7 @@ bool Checker::pair_collides(const PosedParts& posed, std::size_t k) const {
 }
 
 void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide,
-                            double rel_tolerance) const {
+                            double rel_tolerance, bool beyond) const {
   const PairRef& p = pairs_[k];
   const bool seeded = out.seeded;
   const std::uint32_t seed_a = out.slot_a, seed_b = out.slot_b;
@@ -1421,6 +1421,7 @@ void Checker::pair_distance(const PosedParts& posed, std::size_t k, double need,
   DistanceRequest q{need, rel_tolerance, kDistanceTieTolerance};
   q.first_below = decide;
   q.known_disjoint = true;  // the caller ran pair_collides
+  q.beyond = beyond;
   if (seeded) {
     q.seed_slot_a = seed_a;
     q.seed_slot_b = seed_b;

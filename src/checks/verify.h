@@ -373,8 +373,10 @@ class Checker {
   // is then never exact: a distance found gives upper and the lower bound
   // upper / (1 + r) (less the tie tolerance and the guard), nothing found
   // the bound need / (1 + r) (less the same).
+  // beyond: fill PairAnswer::beyond from what the search proved on its way
+  // (DistanceRequest::beyond); else it is `distance`.
   void pair_distance(const PosedParts& posed, std::size_t k, double need, PairAnswer& out, bool decide = false,
-                     double rel_tolerance = 0.0) const;
+                     double rel_tolerance = 0.0, bool beyond = false) const;
   // Every pair's answer to need 0 at once, bit for bit what
   // pair_distance(posed, k, 0.0, .) gives: gap[k] its box gap (infinity for
   // a pair never checked, or a terrain pair without terrain), guard[k] its

@@ -1544,7 +1544,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   if (request.root_cull && request.upper_bound > 0.0 && request.upper_bound < std::numeric_limits<double>::infinity() &&
       roots_apart_in(a.data(), ta, b.data(), tb, request.upper_bound)) {
     result.node_pairs_visited = 1;
-    result.beyond = roots_beyond_in(a.data(), ta, b.data(), tb, request.upper_bound);
+    if (request.beyond) result.beyond = roots_beyond_in(a.data(), ta, b.data(), tb, request.upper_bound);
     return;
   }
   const Setup s = make_setup(a, ta, b, tb);
@@ -1598,7 +1598,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       distance_descent(q, t_stack, root);
   }
   if (!q.found) {
-    result.beyond = q.beyond();
+    if (request.beyond) result.beyond = q.beyond();
     return;
   }
   report_pair(s, q.best_sa, q.best_sb, q.best_pa, q.best_pb, q.best, result);

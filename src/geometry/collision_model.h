@@ -129,6 +129,9 @@ struct DistanceRequest {
   // boxes (a state's exact pass, bounded by its best so far), where the
   // test would cost more than it saves, and for the tests that show it.
   bool root_cull = true;
+  // Fill DistanceResult::beyond where nothing is found (the motion checks'
+  // samples read it); off, nothing is spent on it.
+  bool beyond = false;
 };
 
 struct DistanceResult {
@@ -148,7 +151,8 @@ struct DistanceResult {
   // abs_tolerance). From the root boxes where they ended it (root_cull: at
   // least upper_bound), else the least bound of the node pairs the descent
   // dropped unvisited, and its cut where it visited leaf pairs. 0 where
-  // nothing is known (and where something was found).
+  // nothing is known, where something was found, and where the request did
+  // not ask (DistanceRequest::beyond).
   double beyond = 0.0;
 };
 

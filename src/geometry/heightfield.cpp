@@ -917,7 +917,7 @@ void distance(const CollisionModel& a, const Affine& ta, const Heightfield& terr
   if (!(d.found && d.first_below)) distance_descent(d, t_hf_stack, Pair{0, root, 0, 0, d.lower2(0, blo, bhi)});
   if (d.found)
     finish(d.best_slot, d.best_tri, d.best_pp, d.best_pt, d.best);
-  else
+  else if (request.beyond)
     result.beyond = d.beyond();
 }
 

@@ -91,6 +91,13 @@ TEST(DistanceBeyond, NeverAboveTheTrueDistanceOfTwoMeshes) {
               q.known_disjoint = kind != 1;
               q.root_cull = kind != 2;
               DistanceResult r;
+              {
+                // Not asked: nothing spent on it, and it says nothing.
+                DistanceResult plain;
+                distance(a, ta, b, tb, q, plain);
+                EXPECT_EQ(plain.beyond, 0.0);
+              }
+              q.beyond = true;
               distance(a, ta, b, tb, q, r);
               ASSERT_FALSE(r.found) << "nothing lies below a bound under the distance: upper " << upper << " truth " << truth << " found " << r.distance << " kind " << kind << " rel " << rel;
               const bool cull = roots_apart(a, ta, b, tb, upper);
@@ -105,6 +112,7 @@ TEST(DistanceBeyond, NeverAboveTheTrueDistanceOfTwoMeshes) {
         }
         // Something found: beyond says nothing.
         DistanceRequest q{truth * 1.5 + 1e-9, 0.0, 0.0};
+        q.beyond = true;
         DistanceResult r;
         distance(a, ta, b, tb, q, r);
         ASSERT_TRUE(r.found);
@@ -149,6 +157,7 @@ TEST(DistanceBeyond, NeverAboveTheTrueDistanceOverAHeightfield) {
         for (double rel : {0.0, 0.35, 1.0}) {
           DistanceRequest q{upper, rel, 1e-12};
           q.known_disjoint = true;
+          q.beyond = true;
           DistanceResult r;
           distance(model, pose, hf, q, r);
           ASSERT_FALSE(r.found);
