@@ -12,6 +12,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -75,7 +76,25 @@ void farthest_first(T* items, int n, Key key) noexcept {
 // The descent from the pairs on `stack` (nearest on top).
 // A query with `void pruned(double lower2)` is told the bound of every pair
 // it drops without visiting (the least of them bounds what it did not look
-// at).
+// at: DescentFloor).
+// What a distance descent that found nothing proved (DistanceResult::
+// beyond): the pairs it dropped unvisited (pruned) and, where it visited
+// leaf pairs, its cut (each of their triangle pairs was kept from the best
+// by a bound at least that) bound the distance from below. beyond() is 0
+// when nothing is known.
+struct DescentFloor {
+  double floor2 = std::numeric_limits<double>::infinity();
+  bool leaves_seen = false;
+  void pruned(double l2) noexcept {
+    if (!(l2 >= floor2)) floor2 = l2;  // a NaN stays
+  }
+  double beyond(double cut) const noexcept {
+    double b = std::sqrt(floor2) * (1.0 - 1e-15);
+    if (leaves_seen) b = std::min(b, cut);
+    return b >= 0.0 && b < std::numeric_limits<double>::infinity() ? b : 0.0;
+  }
+};
+
 template <class Q>
 void distance_descent_from(Q& q, std::vector<typename Q::Pair>& stack) {
   using Pair = typename Q::Pair;

@@ -987,20 +987,8 @@ struct DistanceQuery {
   double best2_ = cut * cut;
   bool first_below = false;
   bool found = false;
-  // Where nothing is found: the pairs dropped unvisited (pair_traversal.h)
-  // and, where leaf pairs were visited, the cut (each of their triangle
-  // pairs was kept from the best by a bound at least that) bound the
-  // distance from below (beyond(); 0 when nothing is known).
-  double floor2 = std::numeric_limits<double>::infinity();
-  bool leaves_seen = false;
-  void pruned(double l2) {
-    if (!(l2 >= floor2)) floor2 = l2;  // a NaN stays
-  }
-  double beyond() const {
-    double b = std::sqrt(floor2) * (1.0 - 1e-15);
-    if (leaves_seen) b = std::min(b, cut);
-    return b >= 0.0 && b < std::numeric_limits<double>::infinity() ? b : 0.0;
-  }
+  DescentFloor dropped{};  // what a search that finds nothing proved (beyond)
+  void pruned(double l2) { dropped.pruned(l2); }
   std::uint32_t best_sa = 0, best_sb = 0;
   Vec3 best_pa = Vec3::Zero(), best_pb = Vec3::Zero();
   const LeafKernels& kernels = leaf_kernels();
@@ -1114,7 +1102,7 @@ struct DistanceQuery {
   }
 
   bool leaves(const Pair& p) {
-    leaves_seen = true;
+    dropped.leaves_seen = true;
     // Pushed when the best was farther: it may be settled now.
     if (box_settled(p.a, p.b)) return true;
     const BvhNode& x = na[p.a];
@@ -1598,7 +1586,7 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
       distance_descent(q, t_stack, root);
   }
   if (!q.found) {
-    if (request.beyond) result.beyond = q.beyond();
+    if (request.beyond) result.beyond = q.dropped.beyond(q.cut);
     return;
   }
   report_pair(s, q.best_sa, q.best_sb, q.best_pa, q.best_pb, q.best, result);

@@ -695,20 +695,8 @@ struct HfDistance {
   double best2_ = cut * cut;
   bool found = false;
   bool first_below = false;
-  // Where nothing is found: the pairs dropped unvisited (pair_traversal.h)
-  // and, where leaf pairs were visited, the cut (each of their triangle
-  // pairs was kept from the best by a bound at least that) bound the
-  // distance from below (beyond(); 0 when nothing is known).
-  double floor2 = std::numeric_limits<double>::infinity();
-  bool leaves_seen = false;
-  void pruned(double l2) {
-    if (!(l2 >= floor2)) floor2 = l2;  // a NaN stays
-  }
-  double beyond() const {
-    double b = std::sqrt(floor2) * (1.0 - 1e-15);
-    if (leaves_seen) b = std::min(b, cut);
-    return b >= 0.0 && b < std::numeric_limits<double>::infinity() ? b : 0.0;
-  }
+  DescentFloor dropped{};  // what a search that finds nothing proved (beyond)
+  void pruned(double l2) { dropped.pruned(l2); }
   std::uint32_t best_slot = 0, best_tri = 0;
   Vec3 best_pp = Vec3::Zero(), best_pt = Vec3::Zero();
 
@@ -755,7 +743,7 @@ struct HfDistance {
   }
 
   bool leaves(const Pair& p) {
-    leaves_seen = true;
+    dropped.leaves_seen = true;
     const BvhNode& x = q.part->bvh.nodes[p.node];
     // SIMD float lower bounds first (kernels/leaf_bounds.h), the terrain
     // leaf's triangles as two views of up to 16. A pair is skipped only
@@ -918,7 +906,7 @@ void distance(const CollisionModel& a, const Affine& ta, const Heightfield& terr
   if (d.found)
     finish(d.best_slot, d.best_tri, d.best_pp, d.best_pt, d.best);
   else if (request.beyond)
-    result.beyond = d.beyond();
+    result.beyond = d.dropped.beyond(d.cut);
 }
 
 }  // namespace plancheck

@@ -28,6 +28,7 @@ using testing::posed_vertices;
 
 enum class PoseKind { kRigid, kScaleA, kScaleB, kScaleBoth };
 
+using testing::make_box;
 using testing::random_rigid;
 
 Affine with_scale(const Affine& t, std::mt19937_64& rng) {
@@ -355,15 +356,6 @@ TEST(CollisionModel, BoxCullChangesNoListingOrContact) {
   EXPECT_GT(culled_near, 0);
 }
 
-// A closed box of 12 triangles (one leaf), half extents h, centred at c.
-Mesh make_box(const Vec3& c, const Vec3& h) {
-  Mesh m;
-  for (int i = 0; i < 8; ++i)
-    m.vertices.push_back(c + Vec3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z()));
-  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return m;
-}
 
 // The world-frame cull of the root boxes (CollideRequest::root_cull,
 // DistanceRequest::root_cull, roots_apart) against collide() and distance()

@@ -26,6 +26,7 @@ namespace plancheck {
 namespace {
 
 using testing::brute_force_distance;
+using testing::make_box;
 using testing::posed_vertices;
 using testing::random_rigid;
 
@@ -49,17 +50,6 @@ void check_beyond(const DistanceRequest& q, const DistanceResult& r, double trut
   ASSERT_GE(r.beyond, 0.0);
   ASSERT_LE(r.beyond, truth + 1e-12 * scale) << "upper " << q.upper_bound << " rel " << q.rel_tolerance;
   if (r.beyond > q.upper_bound / (1.0 + q.rel_tolerance) * (1.0 + 1e-9)) ++tally.more;
-}
-
-Mesh make_box(const Vec3& c, const Vec3& h) {
-  Mesh m;
-  for (int i = 0; i < 8; ++i)
-    m.vertices.emplace_back(c.x() + ((i & 1) ? h.x() : -h.x()), c.y() + ((i & 2) ? h.y() : -h.y()),
-                            c.z() + ((i & 4) ? h.z() : -h.z()));
-  const std::uint32_t f[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                  {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  for (const auto& t : f) m.triangles.push_back({t[0], t[1], t[2]});
-  return m;
 }
 
 TEST(DistanceBeyond, NeverAboveTheTrueDistanceOfTwoMeshes) {

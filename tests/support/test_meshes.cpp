@@ -85,4 +85,13 @@ Affine random_rigid(std::mt19937_64& rng, const Vec3& around, double spread) {
   return t;
 }
 
+Mesh make_box(const Vec3& c, const Vec3& h) {
+  Mesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.push_back(c + Vec3((i & 1) ? h.x() : -h.x(), (i & 2) ? h.y() : -h.y(), (i & 4) ? h.z() : -h.z()));
+  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return m;
+}
+
 }  // namespace plancheck::testing

@@ -20,6 +20,9 @@ Mesh make_torus(const Vec3& centre, double major_radius, double minor_radius, in
 // up to max_edge.
 Mesh make_soup(std::uint64_t seed, int n, const Vec3& centre, double half_size, double max_edge);
 
+// A closed box of 12 triangles (one leaf), half extents h, centred at c.
+Mesh make_box(const Vec3& c, const Vec3& h);
+
 // A uniformly random rotation (a normalised Gaussian quaternion) and a
 // translation uniform in around +- spread per axis.
 Affine random_rigid(std::mt19937_64& rng, const Vec3& around, double spread);
