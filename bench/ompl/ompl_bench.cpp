@@ -13,6 +13,10 @@
 //     --continuous` rejects.
 //
 //   plancheck_ompl_bench DATASET URDF_EXAMPLE PLANCHECK OUT [--seeds 20] [--segments 1000]
+//
+// OUT gets each arm's scene (scene-nodig.json, urdf-scene.json) and its
+// planned edges (default-edges.csv, urdf-edges.csv) for
+// plancheck_motion_replay.
 #include <plancheck/ompl.h>
 #include <plancheck/plancheck.h>
 
@@ -37,6 +41,7 @@
 #include <iterator>
 #include <memory>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -161,13 +166,28 @@ int rejected(const Arm& a, const std::vector<std::vector<std::vector<double>>>& 
   return bad;
 }
 
-void segment_table(const Arm& a, std::size_t want) {
+void segment_table(const Arm& a, std::size_t want, const fs::path& edges_csv) {
   // Segments of planned (unsimplified) paths: RRTConnect's own edges, from
   // the discrete validator's planner (the faster one to collect them with).
   std::vector<std::pair<std::vector<double>, std::vector<double>>> segs;
   for (std::size_t q = 0; segs.size() < want; q = (q + 1) % a.queries.size()) {
     const Solved s = solve(a, a.discrete_si, q, false);
     for (std::size_t i = 0; i + 1 < s.path.size(); ++i) segs.emplace_back(s.path[i], s.path[i + 1]);
+  }
+  // The planned edges, for plancheck_motion_replay (the same edges again,
+  // one thread, under callgrind if asked).
+  {
+    std::ofstream csv(edges_csv, std::ios::binary);
+    char buf[32];
+    for (const auto& [from, to] : segs) {
+      std::string line;
+      for (const std::vector<double>* v : {&from, &to})
+        for (double x : *v) {
+          std::snprintf(buf, sizeof buf, "%.17g", x);
+          line += (line.empty() ? "" : ",") + std::string(buf);
+        }
+      csv << line << "\n";
+    }
   }
   // 200 more between random valid states near each other, so that both
   // validators see unsafe segments too.
@@ -369,10 +389,11 @@ int main(int argc, char** argv) {
   urdf["robot"]["urdf"] = (example / urdf["robot"]["urdf"].get<std::string>()).string();
   urdf["robot"]["srdf"] = (example / urdf["robot"]["srdf"].get<std::string>()).string();
   write_text(out / "urdf-scene.json", urdf.dump(2));
-  for (const auto& [name, path] : {std::pair<std::string, fs::path>{"default arm", nodig},
-                                   std::pair<std::string, fs::path>{"URDF arm", out / "urdf-scene.json"}}) {
+  for (const auto& [name, path, edges] :
+       {std::tuple<std::string, fs::path, fs::path>{"default arm", nodig, out / "default-edges.csv"},
+        std::tuple<std::string, fs::path, fs::path>{"URDF arm", out / "urdf-scene.json", out / "urdf-edges.csv"}}) {
     const Arm a = make_arm(name, path, 5);
-    segment_table(a, segments);
+    segment_table(a, segments, edges);
     planner_table(a, seeds, pos[2], out);
   }
   return 0;
