@@ -115,5 +115,35 @@ TEST(BenchCommand, MissingSceneExitsTwo) {
   EXPECT_EQ(run_command(kPlancheck + " bench /nonexistent/scene.json >/dev/null 2>&1"), 2);
 }
 
+// plancheck_motion_replay: edges through the slab and beside it, checked
+// certified and discretely (its answer check: every certified edge passes
+// the discrete states), then timed; malformed edges exit 2 naming the line.
+TEST(BenchCommand, MotionReplayChecksItsAnswersAndRejectsBadEdges) {
+  const std::string replay = std::string(PLANCHECK_BINARY_DIR) + "/plancheck_motion_replay";
+  if (!std::filesystem::exists(replay)) GTEST_SKIP() << "plancheck_motion_replay not built";
+  TempDir dir("motion_replay");
+  testing::write_obj(dir / "model.obj", {{"Slab", testing::box_mesh({-3, -1, -1}, {3, 1, 0})},
+                                         {"Bar", testing::box_mesh({0, -0.1, 0.9}, {2, 0.1, 1.1})}});
+  write_text(dir / "scene.json", R"({
+  "format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m", "angle_unit": "deg",
+  "actions": [{"name": "J1", "node": "Bar", "type": "rotate", "pivot": [0, 0, 1], "axis": [0, 1, 0], "limits": [-90, 30]}],
+  "safety_margin": 0.05
+})");
+  write_text(dir / "edges.csv", "0,10\n-45,-10\n10,20\n20,30\n0,29.9\n");
+  const std::string base = replay + " " + (dir / "scene.json").string() + " ";
+  const std::string out = (dir / "out.txt").string();
+  ASSERT_EQ(run_command(base + (dir / "edges.csv").string() + " --passes 1 --threads 1 >" + out + " 2>&1"), 0);
+  // The bar's far corner comes within the margin of the slab between 20
+  // and 30 degrees: the three edges up to 20 degrees are certified, the
+  // two that reach 29.9 and 30 degrees are not.
+  EXPECT_NE(testing::read_text(out).find("5 edges, 3 certified safe"), std::string::npos) << testing::read_text(out);
+  write_text(dir / "bad.csv", "0,10\n0,abc\n");
+  EXPECT_EQ(run_command(base + (dir / "bad.csv").string() + " >" + out + " 2>&1"), 2);
+  EXPECT_NE(testing::read_text(out).find("bad.csv:2: not a finite number"), std::string::npos) << testing::read_text(out);
+  write_text(dir / "short.csv", "0,10\n5\n");
+  EXPECT_EQ(run_command(base + (dir / "short.csv").string() + " >" + out + " 2>&1"), 2);
+  EXPECT_NE(testing::read_text(out).find("short.csv:2: 1 values, expected 2"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace plancheck
