@@ -20,9 +20,8 @@ using testing::write_text;
 const std::string kPlancheck = std::string(PLANCHECK_BINARY_DIR) + "/plancheck";
 const std::string kBench = std::string(PLANCHECK_BINARY_DIR) + "/plancheck_bench";
 
-TEST(BenchCommand, SmallSceneAgreesWithFclAndWritesJson) {
-  if (!std::filesystem::exists(kBench)) GTEST_SKIP() << "plancheck_bench not built";
-  TempDir dir("bench");
+// A bar turning about a pivot 1 m above a slab (scene.json, model.obj).
+void write_bar_over_slab(const std::filesystem::path& dir) {
   testing::write_obj(dir / "model.obj", {{"Slab", testing::box_mesh({-3, -1, -1}, {3, 1, 0})},
                                          {"Bar", testing::box_mesh({0, -0.1, 0.9}, {2, 0.1, 1.1})}});
   write_text(dir / "scene.json", R"({
@@ -30,6 +29,12 @@ TEST(BenchCommand, SmallSceneAgreesWithFclAndWritesJson) {
   "actions": [{"name": "J1", "node": "Bar", "type": "rotate", "pivot": [0, 0, 1], "axis": [0, 1, 0], "limits": [-90, 30]}],
   "safety_margin": 0.05
 })");
+}
+
+TEST(BenchCommand, SmallSceneAgreesWithFclAndWritesJson) {
+  if (!std::filesystem::exists(kBench)) GTEST_SKIP() << "plancheck_bench not built";
+  TempDir dir("bench");
+  write_bar_over_slab(dir.path());
   // Safe states, then through the slab (colliding), so both answers are checked.
   write_text(dir / "p.csv", "# name: p\nJ1\n0\n5\n10\n20\n26\n30\n35\n");
   const std::string cmd = kPlancheck + " bench " + (dir / "scene.json").string() + " " + (dir / "p.csv").string() +
@@ -122,13 +127,7 @@ TEST(BenchCommand, MotionReplayChecksItsAnswersAndRejectsBadEdges) {
   const std::string replay = std::string(PLANCHECK_BINARY_DIR) + "/plancheck_motion_replay";
   if (!std::filesystem::exists(replay)) GTEST_SKIP() << "plancheck_motion_replay not built";
   TempDir dir("motion_replay");
-  testing::write_obj(dir / "model.obj", {{"Slab", testing::box_mesh({-3, -1, -1}, {3, 1, 0})},
-                                         {"Bar", testing::box_mesh({0, -0.1, 0.9}, {2, 0.1, 1.1})}});
-  write_text(dir / "scene.json", R"({
-  "format": "plancheck-scene/1", "model": "model.obj", "length_unit": "m", "angle_unit": "deg",
-  "actions": [{"name": "J1", "node": "Bar", "type": "rotate", "pivot": [0, 0, 1], "axis": [0, 1, 0], "limits": [-90, 30]}],
-  "safety_margin": 0.05
-})");
+  write_bar_over_slab(dir.path());
   write_text(dir / "edges.csv", "0,10\n-45,-10\n10,20\n20,30\n0,29.9\n");
   const std::string base = replay + " " + (dir / "scene.json").string() + " ";
   const std::string out = (dir / "out.txt").string();
