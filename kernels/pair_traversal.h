@@ -79,18 +79,21 @@ void farthest_first(T* items, int n, Key key) noexcept {
 // at: DescentFloor).
 // What a distance descent that found nothing proved (DistanceResult::
 // beyond): the pairs it dropped unvisited (pruned) and, where it visited
-// leaf pairs, its cut (each of their triangle pairs was kept from the best
-// by a bound at least that) bound the distance from below. beyond() is 0
-// when nothing is known.
+// leaf pairs or dropped pairs by another test (at_cut), its cut (each of
+// those triangle pairs was kept from the best by a bound at least that)
+// bound the distance from below. beyond() is 0 when nothing is known. A
+// query that drops a pair by any test other than its lower2 against the
+// cut (an infinite lower2 standing for "settled") must set at_cut: an
+// infinite bound passed to pruned() counts as nothing there.
 struct DescentFloor {
   double floor2 = std::numeric_limits<double>::infinity();
-  bool leaves_seen = false;
+  bool at_cut = false;
   void pruned(double l2) noexcept {
     if (!(l2 >= floor2)) floor2 = l2;  // a NaN stays
   }
   double beyond(double cut) const noexcept {
     double b = std::sqrt(floor2) * (1.0 - 1e-15);
-    if (leaves_seen) b = std::min(b, cut);
+    if (at_cut) b = std::min(b, cut);
     return b >= 0.0 && b < std::numeric_limits<double>::infinity() ? b : 0.0;
   }
 };

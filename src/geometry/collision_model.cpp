@@ -1085,7 +1085,9 @@ struct DistanceQuery {
   // (the arm's base over the deck), whose search otherwise visits every
   // node pair along the faces to find nothing. Before a pair is found (the
   // probe of leaves() settles a pair without the box test) nothing is
-  // dropped. NaN anywhere fails the comparison: nothing is dropped.
+  // dropped. NaN anywhere fails the comparison: nothing is dropped. (Only
+  // once a pair is found, so DescentFloor, read only when nothing is, needs
+  // no at_cut for these drops.)
   bool box_settled(std::uint32_t ia, std::uint32_t ib) const {
     if (!found || !tie_cull) return false;
     double alo[3], ahi[3], blo[3], bhi[3];
@@ -1102,7 +1104,7 @@ struct DistanceQuery {
   }
 
   bool leaves(const Pair& p) {
-    dropped.leaves_seen = true;
+    dropped.at_cut = true;
     // Pushed when the best was farther: it may be settled now.
     if (box_settled(p.a, p.b)) return true;
     const BvhNode& x = na[p.a];
@@ -1350,7 +1352,10 @@ struct DistanceQuery {
       s.map_b_axes(mb);
       beyond = box_clear_of_leaf(planes_a, mb.cb, mb.bw, s.b.data->obbs[kid.b].half, s.obb_tol, reach, true);
     }
-    if (beyond) kid.lower2 = std::numeric_limits<double>::infinity();
+    if (beyond) {
+      kid.lower2 = std::numeric_limits<double>::infinity();
+      dropped.at_cut = true;  // proven at least best, not infinitely far
+    }
   }
 };
 

@@ -743,7 +743,7 @@ struct HfDistance {
   }
 
   bool leaves(const Pair& p) {
-    dropped.leaves_seen = true;
+    dropped.at_cut = true;
     const BvhNode& x = q.part->bvh.nodes[p.node];
     // SIMD float lower bounds first (kernels/leaf_bounds.h), the terrain
     // leaf's triangles as two views of up to 16. A pair is skipped only

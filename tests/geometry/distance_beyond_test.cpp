@@ -61,6 +61,10 @@ TEST(DistanceBeyond, NeverAboveTheTrueDistanceOfTwoMeshes) {
       {testing::make_torus(Vec3::Zero(), 1.0, 0.3, 20, 10), testing::make_sphere(Vec3::Zero(), 0.5, 8, 12), 3.0},
       {testing::make_soup(21, 300, Vec3::Zero(), 1.0, 0.3), testing::make_soup(22, 250, Vec3::Zero(), 1.0, 0.3), 3.0},
       {make_box(Vec3(0.1, 0.2, -0.3), Vec3(0.5, 0.2, 0.1)), make_box(Vec3(-0.2, 0.0, 0.1), Vec3(0.3, 0.3, 0.05)), 2.0},
+      // A deck (one leaf of long triangles) beside a fine sphere: the
+      // descent drops leaf-against-node pairs by the leaf's planes there
+      // (cull_leaf), a drop that proves only the cut.
+      {make_box(Vec3::Zero(), Vec3(1.2, 0.9, 0.1)), testing::make_sphere(Vec3::Zero(), 0.2, 16, 24), 1.0},
   };
   std::mt19937_64 rng(1203);
   Tally tally;
