@@ -23,7 +23,10 @@ run_one() {  # target seconds; prints one summary line, returns non-zero on fail
   local t=$1 secs=$2 work status
   work=$(mktemp -d)
   cp -r "$top/tests/fuzz/corpus/$t" "$work/corpus"
-  "$build/fuzz/fuzz_$t" "$work/corpus" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
+  # The targets' scratch files (tests/fuzz/support.h) go with $work: libFuzzer
+  # ends its run without atexit handlers.
+  mkdir "$work/tmp"
+  TMPDIR="$work/tmp" "$build/fuzz/fuzz_$t" "$work/corpus" -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$build/artifacts/$t-" > "$build/fuzz-$t.log" 2>&1
   status=$?
   if [ $status -eq 0 ]; then

@@ -2,6 +2,7 @@
 // Round trip of datasets/tds_writer through assimp 5.2's own 3DS importer, read raw
 // (no post-processing), so what the loader sees is what the writer meant.
 #include "datasets/tds_writer.h"
+#include "support/fixtures.h"
 
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
@@ -12,7 +13,6 @@
 #include <map>
 #include <string>
 
-#include <unistd.h>
 
 namespace plancheck {
 namespace {
@@ -53,10 +53,9 @@ void index_nodes(const aiNode* n, std::map<std::string, const aiNode*>& out) {
 }
 
 void read_back(const std::vector<TdsNode>& nodes, const std::string& file_name, ReadBack& rb) {
-  std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("plancheck_tds_writer_test_" + std::to_string(static_cast<long>(getpid())));
-  std::filesystem::create_directories(dir);
-  std::filesystem::path file = dir / file_name;
+  // assimp keeps what it read: the file goes with the folder.
+  const testing::TempDir dir("tds_writer");
+  const std::filesystem::path file = dir / file_name;
   tds_write(file, nodes);
   rb.scene = rb.importer.ReadFile(file.string(), 0);
   ASSERT_NE(rb.scene, nullptr) << rb.importer.GetErrorString();
