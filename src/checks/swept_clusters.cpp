@@ -5,6 +5,7 @@
 #include "src/scene/plan.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -23,6 +24,9 @@ void SweptClusters::start(const Checker& checker, const std::vector<double>& qa,
   parts_.resize(checker.part_count());
   const bool same = checker.instance_id() == checker_id_;
   checker_id_ = checker.instance_id();
+  if (!same) prefixes_ = chain_prefixes(checker.scene());
+  chain_pose_.resize(prefixes_.size() * (kTimes + 1));
+  chain_known_.assign(prefixes_.size(), 0);
   for (PartData& d : parts_) {
     d.known = false;
     d.spheres_known = d.spheres_known && same;
@@ -62,6 +66,8 @@ SweptClusters::PartData& SweptClusters::part(int index) {
     if (!(d.speed[i] < std::numeric_limits<double>::infinity())) return d;  // NaN or infinite
   }
   d.centre.resize(d.spheres.size() * (kTimes + 1));
+  d.mag.resize(d.centre.size());
+  d.hull.assign(static_cast<std::size_t>((kTimes + 1) * (kLevels + 1)), PartData::Hull{});
   d.usable = true;
   return d;
 }
@@ -79,8 +85,24 @@ const Vec3* SweptClusters::centres(PartData& d, int index, int m) {
     q = &q_;
   }
   // The part's transform alone (pose_parts' for one part, without its box).
-  const Affine pose = part_transform(checker_->scene(), index, *q);
-  for (std::size_t i = 0; i < k; ++i) out[i] = pose * d.spheres[i].centre;
+  const int chain = checker_->scene().parts[static_cast<std::size_t>(index)].chain_id;
+  const Affine pose = chain >= 0 ? chain_at(chain, m, *q) : part_transform(checker_->scene(), index, *q);
+  double* mag = &d.mag[static_cast<std::size_t>(m) * k];
+  for (std::size_t i = 0; i < k; ++i) {
+    out[i] = pose * d.spheres[i].centre;
+    mag[i] = out[i].cwiseAbs().maxCoeff();
+  }
+  return out;
+}
+
+const Affine& SweptClusters::chain_at(int c, int m, const std::vector<double>& q) {
+  Affine& out = chain_pose_[static_cast<std::size_t>(m) * prefixes_.size() + static_cast<std::size_t>(c)];
+  std::uint64_t& known = chain_known_[static_cast<std::size_t>(c)];
+  if (known >> m & 1) return out;
+  const int p = prefixes_[static_cast<std::size_t>(c)];
+  const Affine* from = p >= 0 ? &chain_at(p, m, q) : nullptr;
+  chain_transform(checker_->scene(), c, p, from, q, out);
+  known |= std::uint64_t{1} << m;
   return out;
 }
 
@@ -93,6 +115,33 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
   const int m = hi - lo >= 2 ? (lo + hi) / 2 : lo;
   const double reach = hi - lo >= 2 ? 0.5 * length : length;
   const Vec3* c = centres(d, index, m);
+  const double* mag = &d.mag[static_cast<std::size_t>(m) * d.spheres.size()];
+  // First all the spheres at once: the box holding them grown (each ball
+  // lies in it, so no ball is nearer the target box than it is). Where it
+  // keeps the target, so does every ball; its gap is then the bound.
+  {
+    const int level = std::countr_zero(static_cast<unsigned>(hi - lo));  // hi - lo is a power of two
+    PartData::Hull& h = d.hull[static_cast<std::size_t>(m * (kLevels + 1) + level)];
+    if (!h.known) {
+      h.known = true;
+      h.lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+      h.hi = -h.lo;
+      double largest = 0.0;
+      for (std::size_t i = 0; i < d.spheres.size(); ++i) {
+        const double grow = d.spheres[i].radius + d.speed[i] * reach;
+        h.lo = h.lo.cwiseMin(c[i] - Vec3::Constant(grow));
+        h.hi = h.hi.cwiseMax(c[i] + Vec3::Constant(grow));
+        largest = std::max(largest, mag[i] + grow);
+      }
+      h.pad = 1e-9 * (largest + 1.0);
+    }
+    const double gap2 = (blo - h.hi).cwiseMax(h.lo - bhi).cwiseMax(Vec3::Zero()).squaredNorm();
+    const double need = target + h.pad;
+    if (gap2 >= need * need) {
+      least = std::min(least, std::sqrt(gap2) - h.pad);
+      return true;
+    }
+  }
   double bound = std::numeric_limits<double>::infinity();
   // Whether cluster i's ball, grown by `piece_reach`, fails the test at
   // its centre here. Where it fails even with the finest piece's reach
@@ -103,7 +152,7 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
   auto fails = [&](std::size_t i, double gap2, double piece_reach) {
     const double grow = d.spheres[i].radius + d.speed[i] * piece_reach;
     // Rounding: of the posed centre and of the sums here, far below this.
-    const double pad = 1e-9 * (c[i].cwiseAbs().maxCoeff() + grow + 1.0);
+    const double pad = 1e-9 * (mag[i] + grow + 1.0);
     const double need = target + grow + pad;
     return !(gap2 >= need * need);  // true for NaN
   };
@@ -115,7 +164,7 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
       return piece(d, index, lo, mid, blo, bhi, target, least) && piece(d, index, mid, hi, blo, bhi, target, least);
     }
     const double grow = d.spheres[i].radius + d.speed[i] * reach;
-    bound = std::min(bound, std::sqrt(gap2) - grow - 1e-9 * (c[i].cwiseAbs().maxCoeff() + grow + 1.0));
+    bound = std::min(bound, std::sqrt(gap2) - grow - 1e-9 * (mag[i] + grow + 1.0));
   }
   least = std::min(least, bound);
   return true;

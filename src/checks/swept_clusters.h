@@ -57,7 +57,16 @@ class SweptClusters {
     bool usable = false;
     std::vector<double> speed;  // per sphere: its points' path per unit of t
     std::vector<Vec3> centre;   // per time m / 2^kLevels and sphere: the sphere's centre posed
+    std::vector<double> mag;    // the same: its largest coordinate's magnitude (the tests' rounding pad)
     std::uint64_t posed = 0;    // bit m: centre at time m computed
+    // Per time and piece length (kLevels + 1 of them): the box that holds
+    // every sphere grown by its reach there (one test for all of them).
+    struct Hull {
+      bool known = false;
+      Vec3 lo, hi;
+      double pad = 0.0;  // covers the rounding of the box and of its test
+    };
+    std::vector<Hull> hull;
   };
   PartData& part(int index);
   const Vec3* centres(PartData& d, int index, int m);
@@ -66,7 +75,14 @@ class SweptClusters {
   bool piece(PartData& d, int index, int lo, int hi, const Vec3& blo, const Vec3& bhi, double target,
              double& least);
 
+  // Chain c's product at time m (chain_transform, continued from its
+  // prefix's at m: the arm's parts share their first joints' products).
+  const Affine& chain_at(int c, int m, const std::vector<double>& q);
+
   const Checker* checker_ = nullptr;
+  std::vector<int> prefixes_;            // chain_prefixes of the checker's scene
+  std::vector<Affine> chain_pose_;       // per time and chain
+  std::vector<std::uint64_t> chain_known_;  // per chain: bit m, its product at time m computed
   std::uint64_t checker_id_ = 0;  // Checker::instance_id() the parts' spheres are of
   const std::vector<double>* qa_ = nullptr;
   const std::vector<double>* qb_ = nullptr;

@@ -126,29 +126,34 @@ void times(const Affine& a, const Affine& b, Affine& out) {
 
 }  // namespace
 
+void chain_transform(const Scene& scene, int c, int prefix, const Affine* prefix_product,
+                     std::span<const double> params, Affine& out) {
+  const std::vector<int>& chain = scene.chains[static_cast<std::size_t>(c)];
+  static const Affine kIdentity = Affine::Identity();
+  const Affine& start = prefix >= 0 ? *prefix_product : kIdentity;
+  std::size_t i = prefix >= 0 ? scene.chains[static_cast<std::size_t>(prefix)].size() : 0;
+  if (i == chain.size()) {
+    out = start;
+    return;
+  }
+  const auto action = [&](std::size_t k) {
+    return action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[k])], params);
+  };
+  // A chain from the root starts at its first action itself (as compose).
+  if (prefix >= 0)
+    times(start, action(i), out);
+  else
+    out = action(i);
+  for (++i; i < chain.size(); ++i) times(out, action(i), out);
+}
+
 void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::span<const double> params,
                       std::vector<Affine>& out) {
   out.resize(scene.chains.size());
   for (std::size_t c = 0; c < scene.chains.size(); ++c) {
-    const std::vector<int>& chain = scene.chains[c];
     const int p = prefixes[c];
-    static const Affine kIdentity = Affine::Identity();
-    const Affine& start = p >= 0 ? out[static_cast<std::size_t>(p)] : kIdentity;
-    std::size_t i = p >= 0 ? scene.chains[static_cast<std::size_t>(p)].size() : 0;
-    if (i == chain.size()) {
-      out[c] = start;
-      continue;
-    }
-    const auto action = [&](std::size_t k) {
-      return action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[k])], params);
-    };
-    Affine& t = out[c];
-    // A chain from the root starts at its first action itself (as compose).
-    if (p >= 0)
-      times(start, action(i), t);
-    else
-      t = action(i);
-    for (++i; i < chain.size(); ++i) times(t, action(i), t);
+    chain_transform(scene, static_cast<int>(c), p, p >= 0 ? &out[static_cast<std::size_t>(p)] : nullptr, params,
+                    out[c]);
   }
 }
 

@@ -44,6 +44,13 @@ std::vector<int> chain_prefixes(const Scene& scene);
 void chain_transforms(const Scene& scene, std::span<const int> prefixes, std::span<const double> params,
                       std::vector<Affine>& out);
 
+// One chain c's product as chain_transforms computes it (the same bits):
+// continued from prefix_product, the product of chain `prefix`
+// (chain_prefixes(scene)[c]) at the same params, or from the root when
+// prefix is -1 (prefix_product unused). out must not be *prefix_product.
+void chain_transform(const Scene& scene, int c, int prefix, const Affine* prefix_product,
+                     std::span<const double> params, Affine& out);
+
 // The transform that poses part `part` (identity for static parts).
 Affine part_transform(const Scene& scene, int part, std::span<const double> params);
 
