@@ -397,7 +397,7 @@ SegmentResult SegmentChecker::check_motion(const std::vector<double>& qa, const 
     checker_.check_state(qb, sb, request);
     keep(qb, hb, sb, slot_a);
   }
-  return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds, first_violation, threads);
+  return run_pairs(qa, qb, sa, sb, certified_until, nullptr, &bounds, first_violation, threads, verdict_only);
 }
 
 SegmentResult SegmentChecker::check_motion_reference(const std::vector<double>& qa, const std::vector<double>& qb,
@@ -614,7 +614,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
                                         const StateResult& sa, const StateResult& sb,
                                         double* certified_until, const Heightfield* terrain,
                                         const std::vector<double>* given_bounds, bool first_violation,
-                                        int threads) const {
+                                        int threads, bool verdict_only) const {
   SegmentResult out;
   double until = 0.0;
   out.checked = true;
@@ -720,7 +720,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   {
     const double target = margin_ > 0.0 ? margin_ : 0.0;
     PoseRates poses(*this, qa, qb, posed, ws.rates);
-    ws.swept.start(checker_, qa, qb);
+    ws.swept.start(checker_, qa, qb, !verdict_only);
     const int n_parts = static_cast<int>(checker_.part_count());
     auto still = [&](int x) {
       return x >= 0 && x < n_parts && x != checker_.terrain_index() &&

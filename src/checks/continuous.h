@@ -143,11 +143,12 @@ class SegmentChecker {
   // The per-pair algorithm (check, check_motion on the scene's terrain).
   // bounds: the pairs' motion bounds from qa to qb (MotionBound::pair_bounds
   // over plan_) when the caller has them; nullptr: computed here.
-  // threads: as check_motion's.
+  // threads: as check_motion's. verdict_only: lower_bound may be looser
+  // (SweptClusters proves far pairs by one test, not by each ball).
   SegmentResult run_pairs(const std::vector<double>& qa, const std::vector<double>& qb, const StateResult& sa,
                           const StateResult& sb, double* certified_until = nullptr,
                           const Heightfield* terrain = nullptr, const std::vector<double>* bounds = nullptr,
-                          bool first_violation = false, int threads = 1) const;
+                          bool first_violation = false, int threads = 1, bool verdict_only = false) const;
   // Where the end states' distances count (m): every pair at least
   // min(its state's distance, this) at an end in both modes, so that both
   // modes take the same steps (check_motion's verdict-only ends are exact

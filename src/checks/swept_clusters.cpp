@@ -17,8 +17,10 @@ constexpr int kTimes = 1 << SweptClusters::kLevels;  // finest pieces
 static_assert(kTimes < 64, "one bit per time in PartData::posed");
 }  // namespace
 
-void SweptClusters::start(const Checker& checker, const std::vector<double>& qa, const std::vector<double>& qb) {
+void SweptClusters::start(const Checker& checker, const std::vector<double>& qa, const std::vector<double>& qb,
+                          bool tight) {
   checker_ = &checker;
+  tight_ = tight;
   qa_ = &qa;
   qb_ = &qb;
   parts_.resize(checker.part_count());
@@ -118,8 +120,10 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
   const double* mag = &d.mag[static_cast<std::size_t>(m) * d.spheres.size()];
   // First all the spheres at once: the box holding them grown (each ball
   // lies in it, so no ball is nearer the target box than it is). Where it
-  // keeps the target, so does every ball; its gap is then the bound.
-  {
+  // keeps the target, so does every ball; its gap is then the bound (the
+  // balls' own, tight: each passes the test below, the same bound as
+  // without this one).
+  if (!tight_) {
     const int level = std::countr_zero(static_cast<unsigned>(hi - lo));  // hi - lo is a power of two
     PartData::Hull& h = d.hull[static_cast<std::size_t>(m * (kLevels + 1) + level)];
     if (!h.known) {
@@ -133,7 +137,10 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
         h.hi = h.hi.cwiseMax(c[i] + Vec3::Constant(grow));
         largest = std::max(largest, mag[i] + grow);
       }
-      h.pad = 1e-9 * (largest + 1.0);
+      // Twice the balls' own pad: covers the box's rounding as theirs
+      // covers the balls', and keeps its bound below theirs where a ball
+      // is as near as the box (the nearest straight across, on an axis).
+      h.pad = 2e-9 * (largest + 1.0);
     }
     const double gap2 = (blo - h.hi).cwiseMax(h.lo - bhi).cwiseMax(Vec3::Zero()).squaredNorm();
     const double need = target + h.pad;

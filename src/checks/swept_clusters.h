@@ -35,8 +35,11 @@ class SweptClusters {
 
   // Starts a segment from qa to qb (full parameter vectors, as written);
   // nothing of an earlier segment is kept but capacity. `checker` must
-  // outlive the calls up to the next start.
-  void start(const Checker& checker, const std::vector<double>& qa, const std::vector<double>& qb);
+  // outlive the calls up to the next start. tight: clear's bounds from
+  // each ball (else, where one box around all the balls proves the piece,
+  // from that box: as certain, looser, one test).
+  void start(const Checker& checker, const std::vector<double>& qa, const std::vector<double>& qb,
+             bool tight = true);
 
   // A lower bound (m) of the distance between `part` and every point of
   // the box [lo, hi] (world frame) over the whole segment, proven at least
@@ -80,6 +83,7 @@ class SweptClusters {
   const Affine& chain_at(int c, int m, const std::vector<double>& q);
 
   const Checker* checker_ = nullptr;
+  bool tight_ = true;
   std::vector<int> prefixes_;            // chain_prefixes of the checker's scene
   std::vector<Affine> chain_pose_;       // per time and chain
   std::vector<std::uint64_t> chain_known_;  // per chain: bit m, its product at time m computed
