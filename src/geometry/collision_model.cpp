@@ -1426,15 +1426,9 @@ WorldBox world_box(const BvhNode& n, const Affine& t) {
   return w;
 }
 
-// True when an axis separates the two world boxes by more than reach (m).
-// The tolerance, 1e-9 of the coordinates and extents involved, lies far
-// above every rounding here (the axes' and centres' products, the halving
-// of the float boxes, the poses' distance from orthonormal, kIsometryTol)
-// and far above the difference between these world poses and the working
-// frame collide_in reads (make_setup's inverse and product: a few ulps).
 // b in a's axes (ObbRelative), with the centres' offset d and `scale`, the
-// size of the coordinates and extents involved (what apart's tolerance is
-// a fraction of).
+// size of the coordinates and extents involved (what RootBoxes' tolerance
+// is a fraction of).
 ObbRelative relative(const WorldBox& a, const WorldBox& b, Vec3& d, double& scale) {
   d = b.centre - a.centre;
   ObbRelative q;
@@ -1452,54 +1446,90 @@ ObbRelative relative(const WorldBox& a, const WorldBox& b, Vec3& d, double& scal
   return q;
 }
 
-bool apart(const WorldBox& a, const WorldBox& b, double reach) {
-  Vec3 d;
-  double scale;
-  const ObbRelative q = relative(a, b, d, scale);
-  const double tol = reach + 1e-9 * scale + 1e-300;
-  // NaN or infinite poses: never apart here (collide_in decides them).
-  return std::isfinite(tol) && obb_disjoint(q, a.half, b.half, tol);
-}
+// Two rigid parts' root boxes posed in the world, each box pair and its
+// relative placement computed once for both questions below.
+class RootBoxes {
+ public:
+  RootBoxes(const CollisionModelData& da, const Affine& ta, const CollisionModelData& db, const Affine& tb)
+      : da_(da), ta_(ta), db_(db), tb_(tb),
+        usable_(!da.bvh.nodes.empty() && !db.bvh.nodes.empty() && is_isometry(ta) && is_isometry(tb)),
+        oriented_(!da.obbs.empty() && !db.obbs.empty()) {}
 
-// True when two rigid parts are proven apart (by more than reach) by their
-// root boxes posed in the world: the axis-aligned boxes of their own frames
-// (as the descent's first box cull), then the oriented ones (its first
-// oriented test). The world image of a box under a rigid map is a box with
-// turned axes, so an axis separating the posed boxes separates the posed
-// parts, and a pair dropped here is apart in the working frame too.
-bool roots_apart_in(const CollisionModelData& da, const Affine& ta, const CollisionModelData& db, const Affine& tb,
-                    double reach) {
-  if (reach < 0.0) reach = 0.0;  // (NaN stays: nothing is proven)
-  if (da.bvh.nodes.empty() || db.bvh.nodes.empty() || !is_isometry(ta) || !is_isometry(tb)) return false;
-  if (apart(world_box(da.bvh.nodes[0], ta), world_box(db.bvh.nodes[0], tb), reach)) return true;
-  return !da.obbs.empty() && !db.obbs.empty() &&
-         apart(world_box(da.obbs[0], ta), world_box(db.obbs[0], tb), reach);
-}
+  // True when the parts are proven apart (by more than reach): the
+  // axis-aligned boxes of their own frames (as the descent's first box
+  // cull), then the oriented ones (its first oriented test). The world image
+  // of a box under a rigid map is a box with turned axes, so an axis
+  // separating the posed boxes separates the posed parts, and a pair dropped
+  // here is apart in the working frame too.
+  bool apart(double reach) {
+    if (reach < 0.0) reach = 0.0;  // (NaN stays: nothing is proven)
+    if (!usable_) return false;
+    if (apart(aligned(), reach)) return true;
+    return oriented_ && apart(oriented(), reach);
+  }
 
-// How far apart roots_apart_in found two parts it proved apart by more
-// than `reach`: at least reach, and at least what the six face axes and the
-// centre axis of either root box pair show (obb_lower, less apart's
-// rounding tolerance, which covers these sums too).
-double roots_beyond_in(const CollisionModelData& da, const Affine& ta, const CollisionModelData& db, const Affine& tb,
-                       double reach) {
-  double best = reach;
-  auto lower = [&](const WorldBox& a, const WorldBox& b) {
+  // How far apart `apart` found them when it proved them apart by more
+  // than `reach`: at least reach, and at least what the six face axes and
+  // the centre axis of either root box pair show (obb_lower, less apart's
+  // rounding tolerance, which covers these sums too).
+  double beyond(double reach) {
+    double best = reach;
+    auto lower = [&](const Pair& p) {
+      const double l = obb_lower(p.q, p.d.norm(), p.a.half, p.b.half, 1e-9 * p.scale + 1e-300);
+      if (l > best) best = l;  // (NaN never)
+    };
+    lower(aligned());
+    if (oriented_) lower(oriented());
+    return best;
+  }
+
+ private:
+  struct Pair {
+    bool known = false;
+    WorldBox a, b;
+    ObbRelative q;  // b in a's axes (relative)
     Vec3 d;
-    double scale;
-    const ObbRelative q = relative(a, b, d, scale);
-    const double l = obb_lower(q, d.norm(), a.half, b.half, 1e-9 * scale + 1e-300);
-    if (l > best) best = l;  // (NaN never)
+    double scale = 0.0;
   };
-  lower(world_box(da.bvh.nodes[0], ta), world_box(db.bvh.nodes[0], tb));
-  if (!da.obbs.empty() && !db.obbs.empty()) lower(world_box(da.obbs[0], ta), world_box(db.obbs[0], tb));
-  return best;
-}
+  static void fill(Pair& p, const WorldBox& a, const WorldBox& b) {
+    p.known = true;
+    p.a = a;
+    p.b = b;
+    p.q = relative(p.a, p.b, p.d, p.scale);
+  }
+  const Pair& aligned() {
+    if (!aligned_.known) fill(aligned_, world_box(da_.bvh.nodes[0], ta_), world_box(db_.bvh.nodes[0], tb_));
+    return aligned_;
+  }
+  const Pair& oriented() {
+    if (!oriented_pair_.known) fill(oriented_pair_, world_box(da_.obbs[0], ta_), world_box(db_.obbs[0], tb_));
+    return oriented_pair_;
+  }
+  // True when an axis separates the pair's boxes by more than reach (m).
+  // The tolerance, 1e-9 of the coordinates and extents involved, lies far
+  // above every rounding here (the axes' and centres' products, the halving
+  // of the float boxes, the poses' distance from orthonormal, kIsometryTol)
+  // and far above the difference between these world poses and the working
+  // frame collide_in reads (make_setup's inverse and product: a few ulps).
+  static bool apart(const Pair& p, double reach) {
+    const double tol = reach + 1e-9 * p.scale + 1e-300;
+    // NaN or infinite poses: never apart here (collide_in decides them).
+    return std::isfinite(tol) && obb_disjoint(p.q, p.a.half, p.b.half, tol);
+  }
+
+  const CollisionModelData& da_;
+  const Affine& ta_;
+  const CollisionModelData& db_;
+  const Affine& tb_;
+  bool usable_, oriented_;
+  Pair aligned_, oriented_pair_;
+};
 
 }  // namespace
 
 bool roots_apart(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
                  double reach) {
-  return a.triangle_count() > 0 && b.triangle_count() > 0 && roots_apart_in(a.data(), ta, b.data(), tb, reach);
+  return a.triangle_count() > 0 && b.triangle_count() > 0 && RootBoxes(a.data(), ta, b.data(), tb).apart(reach);
 }
 
 void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b, const Affine& tb,
@@ -1512,7 +1542,7 @@ void collide(const CollisionModel& a, const Affine& ta, const CollisionModel& b,
   // cold states of the default scene reach here with 1,110 pairs whose
   // world boxes meet, 1,097 of them apart at the root pair (Table 3's
   // states), each costing make_setup's two inverses and the descent's set-up.
-  if (request.root_cull && roots_apart_in(a.data(), ta, b.data(), tb, request.near_below)) {
+  if (request.root_cull && RootBoxes(a.data(), ta, b.data(), tb).apart(request.near_below)) {
     result.node_pairs_visited = 1;
     return;
   }
@@ -1534,11 +1564,13 @@ void distance(const CollisionModel& a, const Affine& ta, const CollisionModel& b
   // infinite or NaN bound proves nothing there): the motion checks' pair
   // samples on the default arm's planned edges ask 84,572 such questions of
   // mesh pairs, 47,579 of them this far apart.
-  if (request.root_cull && request.upper_bound > 0.0 && request.upper_bound < std::numeric_limits<double>::infinity() &&
-      roots_apart_in(a.data(), ta, b.data(), tb, request.upper_bound)) {
-    result.node_pairs_visited = 1;
-    if (request.beyond) result.beyond = roots_beyond_in(a.data(), ta, b.data(), tb, request.upper_bound);
-    return;
+  if (request.root_cull && request.upper_bound > 0.0 && request.upper_bound < std::numeric_limits<double>::infinity()) {
+    RootBoxes roots(a.data(), ta, b.data(), tb);
+    if (roots.apart(request.upper_bound)) {
+      result.node_pairs_visited = 1;
+      if (request.beyond) result.beyond = roots.beyond(request.upper_bound);
+      return;
+    }
   }
   const Setup s = make_setup(a, ta, b, tb);
   if (!(request.upper_bound > 0.0)) return;  // no distance is below 0

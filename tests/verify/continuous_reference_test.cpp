@@ -77,7 +77,9 @@ void compare(const Checker& checker, const SegmentChecker& seg, double margin, c
   // Its bound may be looser (a far pair proven by one box around all its
   // balls, SweptClusters), never tighter, and a certificate all the same.
   EXPECT_LE(fast_vo.lower_bound, fast.lower_bound);
-  if (kind(fast) == 0) EXPECT_GE(fast_vo.lower_bound, margin);
+  if (kind(fast) == 0) {
+    EXPECT_GE(fast_vo.lower_bound, margin);
+  }
   if (kind(fast) != 0) {
     EXPECT_EQ(fast_vo.part_a, fast.part_a);
     EXPECT_EQ(fast_vo.part_b, fast.part_b);
