@@ -69,7 +69,8 @@ SweptClusters::PartData& SweptClusters::part(int index) {
   }
   d.centre.resize(d.spheres.size() * (kTimes + 1));
   d.mag.resize(d.centre.size());
-  d.hull.assign(static_cast<std::size_t>((kTimes + 1) * (kLevels + 1)), PartData::Hull{});
+  d.hull.resize(static_cast<std::size_t>((kTimes + 1) * (kLevels + 1)));
+  std::fill(std::begin(d.hull_known), std::end(d.hull_known), std::uint64_t{0});
   d.usable = true;
   return d;
 }
@@ -126,8 +127,8 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
   if (!tight_) {
     const int level = std::countr_zero(static_cast<unsigned>(hi - lo));  // hi - lo is a power of two
     PartData::Hull& h = d.hull[static_cast<std::size_t>(m * (kLevels + 1) + level)];
-    if (!h.known) {
-      h.known = true;
+    if (!(d.hull_known[level] >> m & 1)) {
+      d.hull_known[level] |= std::uint64_t{1} << m;
       h.lo = Vec3::Constant(std::numeric_limits<double>::infinity());
       h.hi = -h.lo;
       double largest = 0.0;

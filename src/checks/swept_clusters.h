@@ -65,11 +65,11 @@ class SweptClusters {
     // Per time and piece length (kLevels + 1 of them): the box that holds
     // every sphere grown by its reach there (one test for all of them).
     struct Hull {
-      bool known = false;
       Vec3 lo, hi;
       double pad = 0.0;  // covers the rounding of the box and of its test
     };
     std::vector<Hull> hull;
+    std::uint64_t hull_known[kLevels + 1] = {};  // per piece length, bit m: hull at time m computed
   };
   PartData& part(int index);
   const Vec3* centres(PartData& d, int index, int m);
