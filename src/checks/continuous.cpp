@@ -825,6 +825,21 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     Point& cur = m.cur;
     cur = Point{0.0, va, p.guard_a, va};
     std::vector<Point>& rights = s.rights;
+    {
+      // Most pairs: the whole segment certified by its ends at once (the
+      // loop's first step below, without its set-up).
+      const Point end{1.0, vb, p.guard_b, vb};
+      const double g = std::max(cur.g, end.g);
+      if (cur.t < stop) {
+        const double lb = piece_bound(cur, end, p, target + g);
+        if (lb >= target + g) {
+          m.lower = std::min(m.lower, lb);
+          cur = end;
+          rights.clear();
+          return;
+        }
+      }
+    }
     rights.assign(1, Point{1.0, vb, p.guard_b, vb});
     while (!rights.empty() && cur.t < stop) {
       const Point& r = rights.back();
