@@ -9,6 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
 
 namespace plancheck {
 namespace {
@@ -136,6 +139,24 @@ TEST(BenchCommand, MotionReplayChecksItsAnswersAndRejectsBadEdges) {
   // and 30 degrees: the three edges up to 20 degrees are certified, the
   // two that reach 29.9 and 30 degrees are not.
   EXPECT_NE(testing::read_text(out).find("5 edges, 3 certified safe"), std::string::npos) << testing::read_text(out);
+  // --per-edge: a header, then one row an edge (its discrete states and
+  // whether it was certified), then the summary.
+  ASSERT_EQ(run_command(base + (dir / "edges.csv").string() + " --passes 1 --threads 1 --per-edge >" + out + " 2>&1"), 0);
+  {
+    std::istringstream lines(testing::read_text(out));
+    std::string line;
+    std::getline(lines, line);
+    EXPECT_EQ(line, "edge,length,states,certified,motion_us,discrete_us");
+    std::vector<std::string> rows;
+    while (std::getline(lines, line) && line.find("edges,") == std::string::npos) rows.push_back(line);
+    ASSERT_EQ(rows.size(), 5u) << testing::read_text(out);
+    // Edge 0 (0 -> 10 degrees) is certified, edge 4 (0 -> 29.9) is not.
+    EXPECT_EQ(rows[0].rfind("0,10,", 0), 0u) << rows[0];
+    EXPECT_NE(rows[0].find(",1,"), std::string::npos) << rows[0];
+    EXPECT_EQ(rows[4].rfind("4,29.9,", 0), 0u) << rows[4];
+    EXPECT_NE(rows[4].find(",0,"), std::string::npos) << rows[4];
+    EXPECT_NE(line.find("5 edges, 3 certified safe"), std::string::npos) << line;
+  }
   write_text(dir / "bad.csv", "0,10\n0,abc\n");
   EXPECT_EQ(run_command(base + (dir / "bad.csv").string() + " >" + out + " 2>&1"), 2);
   EXPECT_NE(testing::read_text(out).find("bad.csv:2: not a finite number"), std::string::npos) << testing::read_text(out);
