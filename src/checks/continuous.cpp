@@ -825,32 +825,29 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     Point& cur = m.cur;
     cur = Point{0.0, va, p.guard_a, va};
     std::vector<Point>& rights = s.rights;
-    {
-      // Most pairs: the whole segment certified by its ends at once (the
-      // loop's first step below, without its set-up).
-      const Point end{1.0, vb, p.guard_b, vb};
-      const double g = std::max(cur.g, end.g);
-      if (cur.t < stop) {
-        const double lb = piece_bound(cur, end, p, target + g);
-        if (lb >= target + g) {
-          m.lower = std::min(m.lower, lb);
-          cur = end;
-          rights.clear();
-          return;
-        }
-      }
+    // The piece [cur, r] certified: its bound taken and cur moved to r.
+    auto take = [&](const Point& r) {
+      const double g = std::max(cur.g, r.g);
+      const double lb = piece_bound(cur, r, p, target + g);
+      if (!(lb >= target + g)) return false;
+      m.lower = std::min(m.lower, lb);
+      cur = r;
+      return true;
+    };
+    // Most pairs: the whole segment certified by its ends at once (the
+    // loop's first step, without its set-up).
+    if (cur.t < stop && take(Point{1.0, vb, p.guard_b, vb})) {
+      rights.clear();
+      return;
     }
     rights.assign(1, Point{1.0, vb, p.guard_b, vb});
     while (!rights.empty() && cur.t < stop) {
       const Point& r = rights.back();
-      const double g = std::max(cur.g, r.g);
-      const double lb = piece_bound(cur, r, p, target + g);
-      if (lb >= target + g) {
-        m.lower = std::min(m.lower, lb);
-        cur = r;
+      if (take(r)) {
         rights.pop_back();
         continue;
       }
+      const double g = std::max(cur.g, r.g);
       // Where the piece is not covered: each end's bound certifies the
       // pair for (v - target) / rate either side of it. One sample in the
       // middle of that gap when the pair's estimated distance would cover
