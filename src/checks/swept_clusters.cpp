@@ -119,11 +119,11 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
   const double reach = hi - lo >= 2 ? 0.5 * length : length;
   const Vec3* c = centres(d, index, m);
   const double* mag = &d.mag[static_cast<std::size_t>(m) * d.spheres.size()];
-  // First all the spheres at once: the box holding them grown (each ball
-  // lies in it, so no ball is nearer the target box than it is). Where it
-  // keeps the target, so does every ball; its gap is then the bound (the
-  // balls' own, tight: each passes the test below, the same bound as
-  // without this one).
+  // Where the bound may be loose (not tight_), all the spheres at once
+  // first: the box holding them grown (each ball lies in it, so no ball is
+  // nearer the target box than it is). Where it keeps the target, so does
+  // every ball, and its gap is the piece's bound. Tight, each ball's own
+  // bound is taken below.
   if (!tight_) {
     const int level = std::countr_zero(static_cast<unsigned>(hi - lo));  // hi - lo is a power of two
     PartData::Hull& h = d.hull[static_cast<std::size_t>(m * (kLevels + 1) + level)];
@@ -132,16 +132,20 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
       h.lo = Vec3::Constant(std::numeric_limits<double>::infinity());
       h.hi = -h.lo;
       double largest = 0.0;
+      bool finite = true;
       for (std::size_t i = 0; i < d.spheres.size(); ++i) {
         const double grow = d.spheres[i].radius + d.speed[i] * reach;
         h.lo = h.lo.cwiseMin(c[i] - Vec3::Constant(grow));
         h.hi = h.hi.cwiseMax(c[i] + Vec3::Constant(grow));
         largest = std::max(largest, mag[i] + grow);
+        finite = finite && c[i].allFinite() && std::isfinite(grow);
       }
       // Twice the balls' own pad: covers the box's rounding as theirs
       // covers the balls', and keeps its bound below theirs where a ball
       // is as near as the box (the nearest straight across, on an axis).
-      h.pad = 2e-9 * (largest + 1.0);
+      // A ball not finite (min and max would drop a NaN): no box test (a
+      // NaN pad fails it), the balls' own tests decide.
+      h.pad = finite ? 2e-9 * (largest + 1.0) : std::numeric_limits<double>::quiet_NaN();
     }
     const double gap2 = (blo - h.hi).cwiseMax(h.lo - bhi).cwiseMax(Vec3::Zero()).squaredNorm();
     const double need = target + h.pad;
