@@ -73,6 +73,17 @@ Affine action_transform_at(const Scene& scene, const Action& action, std::span<c
 
 namespace {
 
+// out = a * b, written in place: the very expressions of Eigen's Affine
+// product (transform_transform_product_impl: linear a.l * b.l, translation
+// a.l * b.t + a.t), so the same bits, without its result's copy. out may
+// be a: the translation is taken first, while a's linear part is intact
+// (each product is evaluated into a temporary before it is assigned).
+void times(const Affine& a, const Affine& b, Affine& out) {
+  out.translation() = a.linear() * b.translation() + a.translation();
+  out.linear() = a.linear() * b.linear();
+  out.makeAffine();
+}
+
 // The product A1 * ... * Ak, from A1 itself (the identity times A1 is the
 // same values, a zero's sign aside: chain_transforms and ChainCache start
 // the same way, so that all three give the same bits).
@@ -80,7 +91,7 @@ Affine compose(const Scene& scene, const std::vector<int>& chain, std::span<cons
   if (chain.empty()) return Affine::Identity();
   Affine t = action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[0])], params);
   for (std::size_t k = 1; k < chain.size(); ++k)
-    t = t * action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[k])], params);
+    times(t, action_transform_at(scene, scene.actions[static_cast<std::size_t>(chain[k])], params), t);
   return t;
 }
 
@@ -111,20 +122,6 @@ std::vector<int> chain_prefixes(const Scene& scene) {
   return from;
 }
 
-namespace {
-
-// out = a * b, written in place: the very expressions of Eigen's Affine
-// product (transform_transform_product_impl: linear a.l * b.l, translation
-// a.l * b.t + a.t), so the same bits, without its result's copy. out may
-// be a: the translation is taken first, while a's linear part is intact
-// (each product is evaluated into a temporary before it is assigned).
-void times(const Affine& a, const Affine& b, Affine& out) {
-  out.translation() = a.linear() * b.translation() + a.translation();
-  out.linear() = a.linear() * b.linear();
-  out.makeAffine();
-}
-
-}  // namespace
 
 void chain_transform(const Scene& scene, int c, int prefix, const Affine* prefix_product,
                      std::span<const double> params, Affine& out) {
