@@ -807,21 +807,26 @@ struct HfDistance {
 
 // The working-frame corners of part slot `slot` and of dem_mesh triangle
 // `tri` (the block holding its cell gives them); false when tri is not found.
+// Only that triangle's corners, mapped as terrain_triangles maps its
+// block's samples (the same doubles in, so the same out).
 bool triangle_pair(const HfQuery& q, std::uint32_t slot, std::uint32_t tri, double* p, double* t) {
   int cc, cr, k;
   q.hf->triangle_cell(tri, cc, cr, k);
+  const std::uint32_t first = q.hf->cell_first_tri(cc, cr);
+  if (first == Heightfield::kNoTriangle || first + static_cast<std::uint32_t>(k) != tri) return false;
   BvhNode one{{0, 0, 0}, {0, 0, 0}, slot, 1};
-  double tri_p[1][9], tri_t[kLeafTris][9];
-  std::uint32_t ids[kLeafTris];
+  double tri_p[1][9];
   q.part_triangles(one, tri_p);
-  const int n = q.terrain_triangles(cc / Heightfield::kLeafCells, cr / Heightfield::kLeafCells, tri_t, ids);
-  for (int j = 0; j < n; ++j)
-    if (ids[j] == tri) {
-      std::copy(tri_p[0], tri_p[0] + 9, p);
-      std::copy(tri_t[j], tri_t[j] + 9, t);
-      return true;
-    }
-  return false;
+  std::copy(tri_p[0], tri_p[0] + 9, p);
+  double raw[9];
+  q.hf->cell_triangle(cc, cr, k, raw);
+  for (int v = 0; v < 3; ++v) {
+    if (q.map_terrain)
+      q.terrain_map.apply(raw + 3 * v, t + 3 * v);
+    else
+      std::copy(raw + 3 * v, raw + 3 * v + 3, t + 3 * v);
+  }
+  return true;
 }
 
 // What distance() reports for a found pair: world points, mesh indices.
