@@ -115,6 +115,18 @@ SegmentChecker::SegmentChecker(const Checker& checker, const Scene& scene, const
       if (static_cast<std::size_t>(p) < scene.parts.size() && scene.parts[static_cast<std::size_t>(p)].moving() &&
           std::find(moving_.begin(), moving_.end(), p) == moving_.end())
         moving_.push_back(p);
+  const int n_parts = static_cast<int>(checker_.part_count());
+  auto still = [&](int x) {
+    return x >= 0 && x < n_parts && x != checker_.terrain_index() &&
+           std::find(moving_.begin(), moving_.end(), x) == moving_.end();
+  };
+  for (const auto& [a, b] : pairs_) {
+    const bool a_still = still(a), b_still = still(b);
+    if (a_still != b_still)
+      swept_.emplace_back(a_still ? b : a, a_still ? a : b);
+    else
+      swept_.emplace_back(-1, -1);
+  }
   for (const Action& a : scene.actions) {
     if (a.type == ActionType::kRotate) {
       const bool mimic = a.mimic >= 0;
@@ -721,21 +733,13 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     const double target = margin_ > 0.0 ? margin_ : 0.0;
     PoseRates poses(*this, qa, qb, posed, ws.rates);
     ws.swept.start(checker_, qa, qb, !verdict_only);
-    const int n_parts = static_cast<int>(checker_.part_count());
-    auto still = [&](int x) {
-      return x >= 0 && x < n_parts && x != checker_.terrain_index() &&
-             std::find(moving_.begin(), moving_.end(), x) == moving_.end();
-    };
     for (std::size_t k = 0; k < np; ++k) {
       PairData& p = pd[k];
       const double va = std::max(p.gap_a, floor_a), vb = std::max(p.gap_b, floor_b);
       const double guard = std::max(p.guard_a, p.guard_b);
       const double room = va + vb - 2.0 * (target + guard);
       if (!p.live || p.rate <= room) continue;  // the ends certify it (first order)
-      const auto [a, b] = pairs_[k];
-      const bool a_still = still(a), b_still = still(b);
-      if (a_still != b_still) {
-        const int moving = a_still ? b : a, other = a_still ? a : b;
+      if (const auto [moving, other] = swept_[k]; moving >= 0) {
         const auto& box = posed.box[static_cast<std::size_t>(other)];  // a static part's, as at either end
         p.clear = ws.swept.clear(moving, box.first, box.second, target + guard);
         if (p.clear >= target + guard) continue;

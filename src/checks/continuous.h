@@ -229,6 +229,9 @@ class SegmentChecker {
   std::vector<std::pair<int, int>> pairs_;
   MotionBound::PairPlan plan_;  // pairs_ for MotionBound::pair_bounds
   std::vector<int> moving_;  // parts of some pair that have a chain
+  // Per pair: its moving part and its static mesh part (SweptClusters'
+  // question), or (-1, -1) when not one of each (two moving parts, the terrain).
+  std::vector<std::pair<int, int>> swept_;
   std::vector<std::pair<int, double>> turns_;  // per rotation: its parameter, rad per plan unit (a mimic's multiplier in)
   std::vector<int> scale_parameters_;          // the parameters of scale actions
   double margin_;
