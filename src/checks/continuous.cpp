@@ -116,9 +116,11 @@ SegmentChecker::SegmentChecker(const Checker& checker, const Scene& scene, const
           std::find(moving_.begin(), moving_.end(), p) == moving_.end())
         moving_.push_back(p);
   const int n_parts = static_cast<int>(checker_.part_count());
+  still_.assign(static_cast<std::size_t>(n_parts), 1);
+  for (int p : moving_)
+    if (p >= 0 && p < n_parts) still_[static_cast<std::size_t>(p)] = 0;
   auto still = [&](int x) {
-    return x >= 0 && x < n_parts && x != checker_.terrain_index() &&
-           std::find(moving_.begin(), moving_.end(), x) == moving_.end();
+    return x >= 0 && x < n_parts && x != checker_.terrain_index() && still_[static_cast<std::size_t>(x)];
   };
   for (const auto& [a, b] : pairs_) {
     const bool a_still = still(a), b_still = still(b);
@@ -257,11 +259,8 @@ SegmentChecker::PoseRates::Rate SegmentChecker::PoseRates::of(std::size_t k, dou
   // the pair's distance is then at least the least of the others' and
   // that, and the others' moves bound how fast it can change.
   const Checker& checker = segments_.checker_;
-  const std::size_t n = checker.part_count();
-  auto still = [&](int x) {
-    return x >= 0 && static_cast<std::size_t>(x) < n &&
-           std::find(segments_.moving_.begin(), segments_.moving_.end(), x) == segments_.moving_.end();
-  };
+  const std::size_t n = segments_.still_.size();
+  auto still = [&](int x) { return x >= 0 && static_cast<std::size_t>(x) < n && segments_.still_[static_cast<std::size_t>(x)]; };
   const PartMove* moving = nullptr;
   int other = -1;
   if (ma.balls && still(b)) moving = &ma, other = b;

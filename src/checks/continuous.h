@@ -232,6 +232,7 @@ class SegmentChecker {
   // Per pair: its moving part and its static mesh part (SweptClusters'
   // question), or (-1, -1) when not one of each (two moving parts, the terrain).
   std::vector<std::pair<int, int>> swept_;
+  std::vector<char> still_;  // per part of the checker: not among moving_ (the terrain too)
   std::vector<std::pair<int, double>> turns_;  // per rotation: its parameter, rad per plan unit (a mimic's multiplier in)
   std::vector<int> scale_parameters_;          // the parameters of scale actions
   double margin_;
