@@ -806,9 +806,8 @@ struct HfDistance {
 };
 
 // The working-frame corners of part slot `slot` and of dem_mesh triangle
-// `tri` (the block holding its cell gives them); false when tri is not found.
-// Only that triangle's corners, mapped as terrain_triangles maps its
-// block's samples (the same doubles in, so the same out).
+// `tri`, mapped as terrain_triangles maps its block's samples (the same
+// doubles in, so the same out); false when tri is not found.
 bool triangle_pair(const HfQuery& q, std::uint32_t slot, std::uint32_t tri, double* p, double* t) {
   int cc, cr, k;
   q.hf->triangle_cell(tri, cc, cr, k);

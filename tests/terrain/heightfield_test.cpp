@@ -90,15 +90,35 @@ void expect_same(const CollisionModel& part, const Mesh& part_mesh, const Affine
       EXPECT_TRUE(testing::same_answer(contact, da));
     }
   }
+  // A reported terrain point lies in the plane of its reported triangle.
+  auto on_triangle_b = [&](const DistanceResult& d) {
+    double t[9];
+    int c, r, k;
+    hf.triangle_cell(d.triangle_b, c, r, k);
+    hf.cell_triangle(c, r, k, t);
+    const Vec3 q[3] = {Vec3(t[0], t[1], t[2]), Vec3(t[3], t[4], t[5]), Vec3(t[6], t[7], t[8])};
+    return std::abs(((q[1] - q[0]).cross(q[2] - q[0])).normalized().dot(d.point_b - q[0]));
+  };
   if (da.found && da.distance > 0.0) {
     // The reported points are on the reported triangles and that far apart.
     EXPECT_NEAR((da.point_a - da.point_b).norm(), da.distance, 1e-12);
-    double t[9];
-    int c, r, k;
-    hf.triangle_cell(da.triangle_b, c, r, k);
-    hf.cell_triangle(c, r, k, t);
-    const Vec3 q[3] = {Vec3(t[0], t[1], t[2]), Vec3(t[3], t[4], t[5]), Vec3(t[6], t[7], t[8])};
-    EXPECT_LT(std::abs(((q[1] - q[0]).cross(q[2] - q[0])).normalized().dot(da.point_b - q[0])), 1e-12);
+    EXPECT_LT(on_triangle_b(da), 1e-12);
+    // Seeded with its own pair and asked only whether something lies
+    // below: the seed itself answers (its corners rebuilt from the slots).
+    DistanceRequest seeded;
+    seeded.upper_bound = 1.5 * da.distance + 1e-9;
+    seeded.first_below = true;
+    seeded.seed_slot_a = static_cast<std::int64_t>(da.slot_a);
+    seeded.seed_slot_b = static_cast<std::int64_t>(da.slot_b);
+    DistanceResult ds;
+    distance(part, pose, hf, seeded, ds);
+    ASSERT_TRUE(ds.found);
+    EXPECT_EQ(ds.triangle_b, da.triangle_b);
+    EXPECT_EQ(ds.distance, da.distance);
+    EXPECT_LT(on_triangle_b(ds), 1e-12);
+  } else if (da.found) {
+    // In contact: the common point lies on the terrain triangle too.
+    EXPECT_LT(on_triangle_b(da), 1e-9);
   }
   if (collided) *collided += a.collide ? 1 : 0;
   if (!brute) return;
