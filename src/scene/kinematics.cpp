@@ -122,7 +122,6 @@ std::vector<int> chain_prefixes(const Scene& scene) {
   return from;
 }
 
-
 void chain_transform(const Scene& scene, int c, int prefix, const Affine* prefix_product,
                      std::span<const double> params, Affine& out) {
   const std::vector<int>& chain = scene.chains[static_cast<std::size_t>(c)];
