@@ -478,10 +478,11 @@ struct HfQuery {
     return 1e-12 * s + cull_margin[0] + cull_margin[1] + cull_margin[2];
   }
 
-  // Working-frame triangles of a part leaf.
-  void part_triangles(const BvhNode& x, double (*out)[9]) const {
+  // Working-frame triangles of a part leaf: those whose bit is set in
+  // `which` (all by default; the others are not written).
+  void part_triangles(const BvhNode& x, double (*out)[9], std::uint32_t which = ~std::uint32_t{0}) const {
     for (std::uint32_t i = 0; i < x.count; ++i)
-      for (int v = 0; v < 3; ++v) {
+      for (int v = 0; v < 3 && (which >> i & 1); ++v) {
         const double* src = part->vertex(x.index + i, v);
         if (map_part)
           part_map.apply(src, out[i] + 3 * v);
@@ -493,7 +494,8 @@ struct HfQuery {
   // Working-frame triangles of a leaf block: returns how many; ids are the
   // dem_mesh indices. Each sample is mapped once (the same doubles the mesh
   // path gets by mapping each corner).
-  int terrain_triangles(int bx, int by, double (*out)[9], std::uint32_t* ids) const {
+  int terrain_triangles(int bx, int by, double (*out)[9], std::uint32_t* ids,
+                        std::uint32_t which = ~std::uint32_t{0}) const {
     const int L = Heightfield::kLeafCells;
     const int c0 = bx * L, r0 = by * L;
     const int c1 = std::min(c0 + L, hf->cell_cols()), r1 = std::min(r0 + L, hf->cell_rows());
@@ -518,6 +520,7 @@ struct HfQuery {
         const std::uint32_t first = hf->cell_first_tri(c, r);
         if (first == Heightfield::kNoTriangle) continue;
         for (int k = 0; k < 2; ++k, ++n) {
+          if (!(which >> n & 1)) continue;
           for (int v = 0; v < 3; ++v) {
             const double* p = sample(c + kCorner[k][v][0], r + kCorner[k][v][1]);
             std::copy(p, p + 3, out[n] + 3 * v);
@@ -530,11 +533,25 @@ struct HfQuery {
 
   // Both sides of a leaf pair (part leaf x, terrain leaf block (bx, by)) in
   // the working frame with their boxes; returns the terrain triangle count.
-  int leaf_triangles(const BvhNode& x, int bx, int by, LeafTriangles& l) const {
-    part_triangles(x, l.tri_p);
-    const int nt = terrain_triangles(bx, by, l.tri_t, l.ids);
-    for (std::uint32_t i = 0; i < x.count; ++i) triangle_box(l.tri_p[i], l.box_p[i]);
-    for (int j = 0; j < nt; ++j) triangle_box(l.tri_t[j], l.box_t[j]);
+  // Only the triangles a pair of `pairs` (bit j of pairs[i]: part triangle
+  // i, terrain triangle j) names: the others are not written (a leaf pair
+  // the float prefilter leaves a few pairs of maps a few triangles).
+  int leaf_triangles(const BvhNode& x, int bx, int by, const std::uint32_t* pairs, LeafTriangles& l) const {
+    std::uint32_t parts = 0, terrain = 0;
+    for (std::uint32_t i = 0; i < x.count; ++i) {
+      parts |= (pairs[i] != 0 ? std::uint32_t{1} : 0u) << i;
+      terrain |= pairs[i];
+    }
+    part_triangles(x, l.tri_p, parts);
+    const int nt = terrain_triangles(bx, by, l.tri_t, l.ids, terrain);
+    for (std::uint32_t m = parts; m != 0; m &= m - 1) {
+      const int i = __builtin_ctz(m);
+      triangle_box(l.tri_p[i], l.box_p[i]);
+    }
+    for (std::uint32_t m = terrain; m != 0; m &= m - 1) {
+      const int j = __builtin_ctz(m);
+      if (j < nt) triangle_box(l.tri_t[j], l.box_t[j]);
+    }
     return nt;
   }
 
@@ -643,7 +660,7 @@ struct HfOverlap {
     for (std::uint32_t i = 0; i < x.count; ++i) any |= touch[i];
     if (any == 0) return true;
     LeafTriangles l;
-    const int nt = q.leaf_triangles(x, p.bx, p.by, l);
+    const int nt = q.leaf_triangles(x, p.bx, p.by, touch, l);
     auto& [tri_p, tri_t, box_p, box_t, ids] = l;
     for (std::uint32_t i = 0; i < x.count; ++i)
       for (std::uint32_t m = touch[i]; m != 0; m &= m - 1) {
@@ -760,7 +777,7 @@ struct HfDistance {
     for (std::uint32_t i = 0; i < x.count; ++i) any |= cand[i];
     if (any == 0) return true;
     LeafTriangles l;
-    const int nt = q.leaf_triangles(x, p.bx, p.by, l);
+    const int nt = q.leaf_triangles(x, p.bx, p.by, cand, l);
     auto& [tri_p, tri_t, box_p, box_t, ids] = l;
     for (std::uint32_t i = 0; i < x.count; ++i)
       for (std::uint32_t m = cand[i]; m != 0; m &= m - 1) {
