@@ -481,14 +481,26 @@ struct HfQuery {
   // Working-frame triangles of a part leaf: those whose bit is set in
   // `which` (all by default; the others are not written).
   void part_triangles(const BvhNode& x, double (*out)[9], std::uint32_t which = ~std::uint32_t{0}) const {
-    for (std::uint32_t i = 0; i < x.count; ++i)
-      for (int v = 0; v < 3 && (which >> i & 1); ++v) {
+    for (std::uint32_t i = 0; i < x.count; ++i) {
+      if (!(which >> i & 1)) continue;
+      for (int v = 0; v < 3; ++v) {
         const double* src = part->vertex(x.index + i, v);
         if (map_part)
           part_map.apply(src, out[i] + 3 * v);
         else
           std::copy(src, src + 3, out[i] + 3 * v);
       }
+    }
+  }
+
+  // A terrain point (reference frame) in the working frame: what every
+  // terrain corner a search reads goes through, so that the same sample
+  // gives the same doubles wherever it is read.
+  void terrain_point(const double* p, double* out) const {
+    if (map_terrain)
+      terrain_map.apply(p, out);
+    else
+      std::copy(p, p + 3, out);
   }
 
   // Working-frame triangles of a leaf block: returns how many; ids are the
@@ -505,10 +517,7 @@ struct HfQuery {
       const int k = (r - r0) * (L + 1) + (c - c0);
       if (!mapped[k]) {
         const double p[3] = {hf->x(c), hf->y(r), hf->z(c, r)};
-        if (map_terrain)
-          terrain_map.apply(p, s[k]);
-        else
-          std::copy(p, p + 3, s[k]);
+        terrain_point(p, s[k]);
         mapped[k] = true;
       }
       return s[k];
@@ -836,12 +845,7 @@ bool triangle_pair(const HfQuery& q, std::uint32_t slot, std::uint32_t tri, doub
   std::copy(tri_p[0], tri_p[0] + 9, p);
   double raw[9];
   q.hf->cell_triangle(cc, cr, k, raw);
-  for (int v = 0; v < 3; ++v) {
-    if (q.map_terrain)
-      q.terrain_map.apply(raw + 3 * v, t + 3 * v);
-    else
-      std::copy(raw + 3 * v, raw + 3 * v + 3, t + 3 * v);
-  }
+  for (int v = 0; v < 3; ++v) q.terrain_point(raw + 3 * v, t + 3 * v);
   return true;
 }
 
