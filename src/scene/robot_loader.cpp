@@ -376,15 +376,23 @@ std::vector<std::pair<int, int>> add_robot(const RobotSpec& spec, Scene& scene) 
   parse_xml(doc, text, file);
   if (doc.FirstChildElement("robot") == nullptr) fail(file, "not a URDF: the root element is not <robot>");
   const Lines lines = element_lines(doc);
-  // Every link some joint's child: a joint cycle with no root. Said here,
-  // before urdfdom, which gives up on it with the cycle's shared pointers
-  // still holding each other (a leak inside the library).
+  // Every link some joint's child (a joint cycle with no root), or a joint
+  // from a link to itself: said here, before urdfdom, which gives up on
+  // either with the cycle's shared pointers still holding each other (a
+  // leak inside the library; the fuzzer found the second).
   if (!lines.link.empty()) {
     std::set<std::string> children;
     for (const auto* e = doc.FirstChildElement("robot")->FirstChildElement("joint"); e != nullptr;
-         e = e->NextSiblingElement("joint"))
-      if (const auto* c = e->FirstChildElement("child"); c != nullptr && c->Attribute("link") != nullptr)
-        children.insert(c->Attribute("link"));
+         e = e->NextSiblingElement("joint")) {
+      const auto* c = e->FirstChildElement("child");
+      const auto* p = e->FirstChildElement("parent");
+      if (c == nullptr || c->Attribute("link") == nullptr) continue;
+      children.insert(c->Attribute("link"));
+      if (p != nullptr && p->Attribute("link") != nullptr && std::string(p->Attribute("link")) == c->Attribute("link"))
+        fail(file, "joint '" + std::string(e->Attribute("name") != nullptr ? e->Attribute("name") : "") + "' (line " +
+                       std::to_string(e->GetLineNum()) + ") joins link '" + c->Attribute("link") +
+                       "' to itself: a joint cycle");
+    }
     if (std::all_of(lines.link.begin(), lines.link.end(), [&](const auto& l) { return children.count(l.first) > 0; }))
       fail(file, "no root link (every link is some joint's child: a joint cycle)");
   }

@@ -480,6 +480,11 @@ TEST(RobotErrors, JointCycleAndTwoRoots) {
   const fs::path ring = dir.write("ring.urdf", "<robot name=\"c\"><link name=\"b\"/><link name=\"c\"/>\n" +
                                                    joint("bc", "b", "c") + joint("cb", "c", "b") + "</robot>");
   expect_input_error([&] { load_scene(ring); }, {"ring.urdf", "no root link", "joint cycle"});
+  // A joint from a link to itself, under a root: refused before urdfdom too
+  // (which leaked the link that holds itself; found by fuzz_urdf).
+  const fs::path self = dir.write("self.urdf", "<robot name=\"c\">" + links + "\n" + joint("ab", "a", "b") +
+                                                   joint("cc", "c", "c") + "</robot>");
+  expect_input_error([&] { load_scene(self); }, {"self.urdf", "joint 'cc' (line 3) joins link 'c' to itself"});
   const fs::path roots = dir.write("roots.urdf", "<robot name=\"r\">" + links + "\n" + joint("ab", "a", "b") + "</robot>");
   expect_input_error([&] { load_scene(roots); }, {"roots.urdf", "Two root links"});
 }
