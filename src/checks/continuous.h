@@ -26,6 +26,7 @@
 #include "src/checks/verify.h"
 
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -190,6 +191,12 @@ class SegmentChecker {
       // A lower bound of the distance of the clusters the rate leaves out
       // (at least far_need), +infinity when none is.
       double far = std::numeric_limits<double>::infinity();
+      // The pair's moving part against a static one (else -1) and which of
+      // its clusters (BoxMotion::spheres, bit i: cluster i) the rate counts:
+      // all of them when the rate is the pair's own bound (0 when the part
+      // has more than 64, none then counted: no local speeds).
+      int moving = -1;
+      std::uint64_t counted = 0;
     };
     // Pair k's rate; a moving part's cluster at least far_need clear of a
     // static part's box over the whole segment is left out of it.

@@ -1348,6 +1348,38 @@ void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std
     if (i >= 0 && static_cast<std::size_t>(i) < n) pose_one(static_cast<std::size_t>(i));
 }
 
+bool Checker::pose_parts_moving(const std::vector<double>& params, PosedParts& out, std::span<const int> parts,
+                                int moving, std::span<const double> rates, Vec3& w, Vec3& u) const {
+  const std::size_t n = models_.size();
+  out.pose.resize(n);
+  out.box.resize(n);
+  out.chains.resize(scene_.chains.size());
+  bool known = false;
+  for (int i : parts) {
+    if (i < 0 || static_cast<std::size_t>(i) >= n) continue;
+    const int c = chain_of_[static_cast<std::size_t>(i)];
+    if (c < 0) continue;
+    Affine& t = out.chains[static_cast<std::size_t>(c)];
+    if (i == moving && !known)
+      known = part_transform_velocity(scene_, i, params, rates, t, w, u);
+    else
+      t = part_transform(scene_, i, params);
+  }
+  for (int i : parts) {  // pose_parts' pose_one
+    if (i < 0 || static_cast<std::size_t>(i) >= n) continue;
+    const std::size_t x = static_cast<std::size_t>(i);
+    if (chain_of_[x] >= 0) {
+      out.pose[x] = &out.chains[static_cast<std::size_t>(chain_of_[x])];
+      const Box b = posed_box({local_boxes_[x].first, local_boxes_[x].second}, *out.pose[x]);
+      out.box[x] = {b.lo, b.hi};
+    } else {
+      out.pose[x] = &placement_[x];
+      out.box[x] = static_boxes_[x];
+    }
+  }
+  return known;
+}
+
 void Checker::pair_gaps(const PosedParts& posed, std::vector<double>& gap, std::vector<double>& guard) const {
   const std::size_t np = pairs_.size();
   gap.resize(np);

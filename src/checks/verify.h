@@ -367,6 +367,12 @@ class Checker {
   // the tie tolerance).
   // parts (optional): pose only these (and their chains); others keep what they held.
   void pose_parts(const std::vector<double>& params, PosedParts& out, std::span<const int> parts = {}) const;
+  // pose_parts for a list of parts (the same poses), with the velocity
+  // field of `moving` (one of them) while the parameters move at `rates`
+  // (part_transform_velocity): false, w and u unset, where that part is
+  // static or its chain has a scale action.
+  bool pose_parts_moving(const std::vector<double>& params, PosedParts& out, std::span<const int> parts, int moving,
+                         std::span<const double> rates, Vec3& w, Vec3& u) const;
   bool pair_collides(const PosedParts& posed, std::size_t k) const;
   // rel_tolerance r > 0 (the motion checks' cheap bound): a search within
   // a factor 1 + r, far cheaper than an exact one at long range; the answer

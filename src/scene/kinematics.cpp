@@ -203,6 +203,55 @@ Affine part_transform(const Scene& scene, int part, std::span<const double> para
   return compose(scene, scene.parts[part].chain, params);
 }
 
+bool part_transform_velocity(const Scene& scene, int part, std::span<const double> params,
+                             std::span<const double> rates, Affine& out, Vec3& w, Vec3& u) {
+  const std::vector<int>& chain = scene.parts[static_cast<std::size_t>(part)].chain;
+  Vec3 spin = Vec3::Zero(), shift = Vec3::Zero();
+  bool rigid = true;
+  out = Affine::Identity();
+  for (std::size_t k = 0; k < chain.size(); ++k) {
+    const Action& action = scene.actions[static_cast<std::size_t>(chain[k])];
+    // The action's rate (plan units per unit of time): its own parameter's,
+    // or its master's times the multiplier (driving_value).
+    const auto rate = [&](int i) {
+      if (action.mimic < 0) return rates[static_cast<std::size_t>(action.first_parameter + i)];
+      const Action& master = scene.actions[static_cast<std::size_t>(action.mimic)];
+      return action.multiplier * rates[static_cast<std::size_t>(master.first_parameter)];
+    };
+    // out is the product of the actions above this one (the identity first).
+    switch (action.type) {
+      case ActionType::kRotate: {
+        const double omega = rate(0) * action.unit_to_si;
+        const Vec3 axis = k == 0 ? action.axis : Vec3(out.linear() * action.axis);
+        const Vec3 pivot = k == 0 ? action.pivot : Vec3(out * action.pivot);
+        spin += omega * axis;
+        shift -= omega * axis.cross(pivot);
+        break;
+      }
+      case ActionType::kTranslateAxis:
+        shift += rate(0) * action.unit_to_si * (k == 0 ? action.axis : Vec3(out.linear() * action.axis));
+        break;
+      case ActionType::kTranslateFree: {
+        const Vec3 v = Vec3(rate(0), rate(1), rate(2)) * action.unit_to_si;
+        shift += k == 0 ? v : Vec3(out.linear() * v);
+        break;
+      }
+      case ActionType::kScale:
+        rigid = false;
+        break;
+    }
+    // compose's product, in its order.
+    if (k == 0)
+      out = action_transform_at(scene, action, params);
+    else
+      times(out, action_transform_at(scene, action, params), out);
+  }
+  if (!rigid) return false;
+  w = spin;
+  u = shift;
+  return true;
+}
+
 int first_limit_violation(const Scene& scene, std::span<const double> params) {
   for (std::size_t a = 0; a < scene.actions.size(); ++a) {
     const Action& action = scene.actions[a];

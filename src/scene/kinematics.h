@@ -54,6 +54,16 @@ void chain_transform(const Scene& scene, int c, int prefix, const Affine* prefix
 // The transform that poses part `part` (identity for static parts).
 Affine part_transform(const Scene& scene, int part, std::span<const double> params);
 
+// part_transform's product (the same bits) and the part's velocity field
+// while the parameters move at `rates` (plan units per unit of time, a
+// full vector): at that instant the point of the part at world position x
+// moves at w x x + u. Each rotation turns about its axis and pivot as the
+// actions above it place them (the rate times the axis, through the
+// pivot), a translation moves along its axis so placed. False (w and u
+// unset, out still the product) when the chain has a scale action.
+bool part_transform_velocity(const Scene& scene, int part, std::span<const double> params,
+                             std::span<const double> rates, Affine& out, Vec3& w, Vec3& u);
+
 // compose for one chain over many parameter vectors in a row that differ
 // mostly in the chain's last actions (a grid walked with its last axis
 // fastest: the sweep's target points). The product after each action is

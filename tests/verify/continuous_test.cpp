@@ -8,6 +8,7 @@
 #include "src/scene/plan.h"
 #include "src/scene/scene_loader.h"
 #include "src/checks/verify.h"
+#include "foundation/fixtures.h"
 #include "support/fixtures.h"
 #include "support/sanitized.h"
 #include "tests/verify/bar_scene.h"
@@ -295,6 +296,63 @@ TEST(Continuous, CommandLineReportsBetweenAndSegmentColumns) {
   EXPECT_EQ(testing::run_command(base + " --continuous --continuous-tolerance -1 >/dev/null 2>&1"), 2);
   EXPECT_EQ(testing::run_command(base + " --continuous-tolerance 1e-4 >/dev/null 2>&1"), 2);
   EXPECT_EQ(testing::run_command(base + " --continuous --continuous-tolerance 1e-4 >/dev/null 2>&1"), 1);
+}
+
+// The march's local speeds (a point's speed at each sample, grown by the
+// acceleration bound between samples) against a motion whose point is at
+// rest at both ends and fast in the middle: two joints on parallel axes
+// (J1 about z through the origin, J2 about z through x = 1), the second
+// turning back twice as fast, so that a 1 cm cube at x = 2 runs straight
+// along the x axis from (2, 0) to (-2, 0), through the origin, at rest at
+// either end (the two turns cancel there) and at its fastest between. A
+// post across its path (or beside it, c clear) must be seen: the ends
+// alone, at their speeds, would certify the whole segment 2 m clear.
+TEST(Continuous, APointAtRestAtBothEndsStillMovesBetween) {
+  for (const double c : {-1.0, 0.01, 0.04, 0.07, 0.2}) {
+    SCOPED_TRACE("clearance " + std::to_string(c));
+    TempDir dir("continuous-rest");
+    // c < 0: the post across the path at the origin; else beside it, its
+    // near face c beyond the cube's side (the cube turns as it runs, its
+    // corners at most 2.1 mm nearer).
+    const Vec3 lo = c < 0 ? Vec3(-0.02, -0.02, -0.3) : Vec3(-0.02, 0.005 + c, -0.3);
+    const Vec3 hi = c < 0 ? Vec3(0.02, 0.02, 0.3) : Vec3(0.02, 0.3 + c, 0.3);
+    testing::write_box_gltf(dir / "model.gltf",
+                            {{.name = "world"},
+                             {.name = "L1", .parent = 0},
+                             {.name = "L2", .parent = 1},
+                             {.name = "Tip", .parent = 2, .box = true, .lo = {1.995, -0.005, -0.005}, .hi = {2.005, 0.005, 0.005}},
+                             {.name = "Post", .parent = 0, .box = true, .lo = lo, .hi = hi}});
+    write_text(dir / "scene.json", R"({"format": "plancheck-scene/1", "model": "model.gltf", "length_unit": "m",
+  "angle_unit": "deg", "safety_margin": 0.05, "actions": [
+    {"name": "J1", "node": "L1", "type": "rotate", "pivot": [0, 0, 0], "axis": [0, 0, 1]},
+    {"name": "J2", "node": "L2", "type": "rotate", "pivot": [1, 0, 0], "axis": [0, 0, 1]}]})");
+    const Scene scene = load_scene(dir / "scene.json");
+    const Checker checker(scene, 1);
+    const SegmentChecker seg(checker, scene, ContinuousOptions{});
+    for (const auto& [qa, qb] : {std::pair{std::vector<double>{0, 0}, std::vector<double>{180, -360}},
+                                 std::pair{std::vector<double>{180, -360}, std::vector<double>{0, 0}},
+                                 std::pair{std::vector<double>{-180, 360}, std::vector<double>{0, 0}}}) {
+      SCOPED_TRACE("from " + std::to_string(qa[0]) + ", " + std::to_string(qa[1]));
+      StateResult sa, sb;
+      checker.check_state(qa, sa, row_request());
+      checker.check_state(qb, sb, row_request());
+      ASSERT_GT(sa.min_distance, 1.9);
+      ASSERT_GT(sb.min_distance, 1.9);
+      const SegmentResult full = seg.check(qa, qb, sa, sb);
+      const SegmentResult reference = seg.check_reference(qa, qb, sa, sb);
+      StateResult va, vb;
+      const SegmentResult vo = seg.check_motion(qa, qb, true, va, vb, nullptr, true);
+      for (const SegmentResult* r : {&reference, &full, &vo}) {
+        EXPECT_FALSE(r->unresolved);
+        EXPECT_EQ(r->collision || r->clearance, c < 0.05);
+        if (r != &vo) EXPECT_EQ(r->collision, c < 0);  // (verdict-only stops at the first violation)
+        if (c >= 0.05) {
+          EXPECT_GE(r->lower_bound, 0.05);
+          EXPECT_LE(r->lower_bound, c + 1e-9);
+        }
+      }
+    }
+  }
 }
 
 }  // namespace
