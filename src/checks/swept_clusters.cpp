@@ -149,10 +149,7 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
     }
     const double gap2 = (blo - h.hi).cwiseMax(h.lo - bhi).cwiseMax(Vec3::Zero()).squaredNorm();
     const double need = target + h.pad;
-    if (gap2 >= need * need) {
-      least = std::min(least, std::sqrt(gap2) - h.pad);
-      return true;
-    }
+    if (gap2 >= need * need) return true;  // (loose: the bound is the target itself, see clear)
   }
   double bound = std::numeric_limits<double>::infinity();
   // Whether cluster i's ball, grown by `piece_reach`, fails the test at
@@ -175,8 +172,10 @@ bool SweptClusters::piece(PartData& d, int index, int lo, int hi, const Vec3& bl
       const int mid = (lo + hi) / 2;
       return piece(d, index, lo, mid, blo, bhi, target, least) && piece(d, index, mid, hi, blo, bhi, target, least);
     }
-    const double grow = d.spheres[i].radius + d.speed[i] * reach;
-    bound = std::min(bound, std::sqrt(gap2) - grow - 1e-9 * (mag[i] + grow + 1.0));
+    if (tight_) {
+      const double grow = d.spheres[i].radius + d.speed[i] * reach;
+      bound = std::min(bound, std::sqrt(gap2) - grow - 1e-9 * (mag[i] + grow + 1.0));
+    }
   }
   least = std::min(least, bound);
   return true;
@@ -189,10 +188,13 @@ double SweptClusters::clear(int part_index, const Vec3& lo, const Vec3& hi, doub
   PartData& d = part(part_index);
   if (!d.usable) return kNone;
   double least = std::numeric_limits<double>::infinity();
-  if (!piece(d, part_index, 0, kTimes, lo, hi, target, least)) return kNone;
+  if (!piece(d, part_index, 0, kTimes / 2, lo, hi, target, least) ||
+      !piece(d, part_index, kTimes / 2, kTimes, lo, hi, target, least))
+    return kNone;
   // Each piece's test proved its balls at least target apart (squared, with
-  // the pad); the bound read from it may round a hair below.
-  return std::max(least, target);
+  // the pad); the bound read from it may round a hair below. Loose (not
+  // tight_): the target itself, no distance read.
+  return tight_ ? std::max(least, target) : target;
 }
 
 }  // namespace plancheck

@@ -12,9 +12,12 @@
 // that per unit of t anywhere on the motion; for a chain of rotations from
 // its levers, kept per checker: levers_bound, the same value). So when every cluster's ball
 // so grown keeps `target` from the box, the part does on the whole piece.
-// Pieces that fail are halved, down to 1/32 of the segment: the part is
-// posed at most 33 times, once per time, for all the boxes it is tested
-// against.
+// The segment's two halves are tried first (the whole segment's balls,
+// grown by half its length, passed for 39,650 pairs of the OMPL bench's
+// default-arm edges where 71,356 more passed only as halves: trying the
+// whole first cost 2.8% more instructions). Pieces that fail are halved,
+// down to 1/32 of the segment: the part is posed at most 33 times, once
+// per time, for all the boxes it is tested against.
 //
 // On the default arm's planned OMPL edges, 71 of the 74 pairs per edge of
 // a moving part and a static mesh that the ends do not certify are proven
@@ -36,8 +39,9 @@ class SweptClusters {
   // Starts a segment from qa to qb (full parameter vectors, as written);
   // nothing of an earlier segment is kept but capacity. `checker` must
   // outlive the calls up to the next start. tight: clear's bounds from
-  // each ball (else, where one box around all the balls proves the piece,
-  // from that box: as certain, looser, one test).
+  // each ball (else a piece is proven by one box around all its balls
+  // where that box keeps the target, and clear's bound is the target
+  // itself: as certain, looser, no distance read).
   void start(const Checker& checker, const std::vector<double>& qa, const std::vector<double>& qb,
              bool tight = true);
 

@@ -345,7 +345,9 @@ TEST(Continuous, APointAtRestAtBothEndsStillMovesBetween) {
       for (const SegmentResult* r : {&reference, &full, &vo}) {
         EXPECT_FALSE(r->unresolved);
         EXPECT_EQ(r->collision || r->clearance, c < 0.05);
-        if (r != &vo) EXPECT_EQ(r->collision, c < 0);  // (verdict-only stops at the first violation)
+        if (r != &vo) {  // (verdict-only stops at the first violation)
+          EXPECT_EQ(r->collision, c < 0);
+        }
         if (c >= 0.05) {
           EXPECT_GE(r->lower_bound, 0.05);
           EXPECT_LE(r->lower_bound, c + 1e-9);
