@@ -1338,7 +1338,29 @@ void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std
     for (std::size_t i = 0; i < n; ++i) pose_one(i);
     return;
   }
-  // Only the chains of these parts (the same composition chain_transforms runs).
+  // Only the chains of these parts (the same composition chain_transforms
+  // runs). Two parts of one arm (a pair of arm parts): the longer chain
+  // continues the shorter's product when that chain begins it, as
+  // chain_transforms does (the same bits), not composed from the root again.
+  if (parts.size() == 2 && parts[0] >= 0 && parts[1] >= 0 && static_cast<std::size_t>(parts[0]) < n &&
+      static_cast<std::size_t>(parts[1]) < n) {
+    int c0 = chain_of_[static_cast<std::size_t>(parts[0])], c1 = chain_of_[static_cast<std::size_t>(parts[1])];
+    if (c0 >= 0 && c1 >= 0 && c0 != c1) {
+      const std::vector<int>* s0 = &scene_.chains[static_cast<std::size_t>(c0)];
+      const std::vector<int>* s1 = &scene_.chains[static_cast<std::size_t>(c1)];
+      if (s0->size() > s1->size()) {
+        std::swap(c0, c1);
+        std::swap(s0, s1);
+      }
+      if (!s0->empty() && std::equal(s0->begin(), s0->end(), s1->begin())) {
+        Affine& short_chain = out.chains[static_cast<std::size_t>(c0)];
+        chain_transform(scene_, c0, -1, nullptr, params, short_chain);
+        chain_transform(scene_, c1, c0, &short_chain, params, out.chains[static_cast<std::size_t>(c1)]);
+        for (int i : parts) pose_one(static_cast<std::size_t>(i));
+        return;
+      }
+    }
+  }
   for (int i : parts) {
     if (i < 0 || static_cast<std::size_t>(i) >= n) continue;
     const int c = chain_of_[static_cast<std::size_t>(i)];
