@@ -208,9 +208,10 @@ SegmentResult SegmentChecker::check_reference(const std::vector<double>& qa, con
 }
 
 SegmentChecker::PoseRates::PoseRates(const SegmentChecker& segments, const std::vector<double>& qa,
-                                     const std::vector<double>& qb, const PosedParts& posed, Storage& storage)
-    : segments_(segments), qa_(qa), qb_(qb), posed_(posed), lo_(storage.lo), hi_(storage.hi), mid_(storage.mid),
-      parts_(storage.parts) {}
+                                     const std::vector<double>& qb, const PosedParts& posed, Storage& storage,
+                                     const SweptClusters* swept)
+    : segments_(segments), qa_(qa), qb_(qb), posed_(posed), swept_(swept), lo_(storage.lo), hi_(storage.hi),
+      mid_(storage.mid), parts_(storage.parts) {}
 
 const SegmentChecker::PoseRates::PartMove& SegmentChecker::PoseRates::part(int x) {
   static const PartMove kStill{};
@@ -234,7 +235,13 @@ const SegmentChecker::PoseRates::PartMove& SegmentChecker::PoseRates::part(int x
   PartMove& m = parts_[static_cast<std::size_t>(x)];
   if (!m.known) {
     m.known = true;
-    m.balls = box_->balls(x, lo_, hi_, mid_, m.ball);
+    const std::vector<BoxMotion::Ball>* known = swept_ ? swept_->balls(x) : nullptr;
+    if (known) {
+      m.balls = true;
+      m.ball = *known;
+    } else {
+      m.balls = box_->balls(x, lo_, hi_, mid_, m.ball);
+    }
     if (m.balls) {
       m.reach = 0.0;
       for (const BoxMotion::Ball& b : m.ball) m.reach = std::max(m.reach, b.move);
@@ -768,7 +775,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
   // bounds'.
   {
     const double target = margin_ > 0.0 ? margin_ : 0.0;
-    PoseRates poses(*this, qa, qb, posed, ws.rates);
+    PoseRates poses(*this, qa, qb, posed, ws.rates, &ws.swept);
     ws.swept.start(checker_, qa, qb, !verdict_only);
     for (std::size_t k = 0; k < np; ++k) {
       PairData& p = pd[k];

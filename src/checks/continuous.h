@@ -33,6 +33,8 @@
 
 namespace plancheck {
 
+class SweptClusters;
+
 struct ContinuousOptions {
   // Clearance witness tolerance (m): a violation needs a configuration with
   // exact distance below margin + tolerance. Must exceed kDistanceTolerance.
@@ -184,8 +186,10 @@ class SegmentChecker {
       std::vector<double> lo, hi, mid;
       std::vector<PartMove> parts;
     };
+    // swept (optional): SweptClusters started on this segment, whose
+    // parts' balls are taken where it computed them (the same values).
     PoseRates(const SegmentChecker& segments, const std::vector<double>& qa, const std::vector<double>& qb,
-              const PosedParts& posed, Storage& storage);
+              const PosedParts& posed, Storage& storage, const SweptClusters* swept = nullptr);
     struct Rate {
       double rate = 0.0;
       // A lower bound of the distance of the clusters the rate leaves out
@@ -214,6 +218,7 @@ class SegmentChecker {
     const std::vector<double>& qa_;
     const std::vector<double>& qb_;
     const PosedParts& posed_;
+    const SweptClusters* swept_ = nullptr;
     bool ready_ = false;
     const BoxMotion* box_ = nullptr;
     std::vector<double>& lo_;

@@ -40,6 +40,7 @@ SweptClusters::PartData& SweptClusters::part(int index) {
   if (d.known) return d;
   d.known = true;
   d.usable = false;
+  d.balls_known = false;
   d.posed = 0;
   const MotionBound& bound = checker_->motion_bound();
   if (!d.spheres_known) {
@@ -61,10 +62,30 @@ SweptClusters::PartData& SweptClusters::part(int index) {
   if (d.spheres.empty()) return d;
   d.speed.resize(d.spheres.size());
   const std::size_t chain = d.levers.size() / d.spheres.size();
+  // BoxMotion's balls over the box qa and qb span, from its middle: each
+  // cluster's points move at most `move` from where they are there, so at
+  // most 2 move per unit of t along the motion (its levers read at the
+  // pose, where the bound above reads them for any pose).
+  const std::size_t np = qa_->size();
+  lo_.resize(np);
+  hi_.resize(np);
+  mid_.resize(np);
+  for (std::size_t i = 0; i < np; ++i) {
+    lo_[i] = std::min((*qa_)[i], (*qb_)[i]);
+    hi_[i] = std::max((*qa_)[i], (*qb_)[i]);
+    mid_[i] = std::clamp((*qa_)[i] + 0.5 * ((*qb_)[i] - (*qa_)[i]), lo_[i], hi_[i]);
+  }
+  d.balls_known = true;
+  d.balls = checker_->box_motion().balls(index, lo_, hi_, mid_, d.ball);
+  const bool balls = d.balls && d.ball.size() == d.spheres.size();
   for (std::size_t i = 0; i < d.spheres.size(); ++i) {
     d.speed[i] = d.levers.empty()
                      ? bound.sphere_bound(index, d.spheres[i].centre, d.spheres[i].radius, *qa_, *qb_)
                      : bound.levers_bound(index, std::span<const double>(d.levers).subspan(i * chain, chain), *qa_, *qb_);
+    if (balls) {
+      const double box = 2.0 * d.ball[i].move * (1.0 + 1e-12);
+      if (box < d.speed[i]) d.speed[i] = box;
+    }
     if (!(d.speed[i] < std::numeric_limits<double>::infinity())) return d;  // NaN or infinite
   }
   d.centre.resize(d.spheres.size() * (kTimes + 1));
@@ -73,6 +94,12 @@ SweptClusters::PartData& SweptClusters::part(int index) {
   std::fill(std::begin(d.hull_known), std::end(d.hull_known), std::uint64_t{0});
   d.usable = true;
   return d;
+}
+
+const std::vector<BoxMotion::Ball>* SweptClusters::balls(int index) const {
+  if (!checker_ || index < 0 || static_cast<std::size_t>(index) >= parts_.size()) return nullptr;
+  const PartData& d = parts_[static_cast<std::size_t>(index)];
+  return d.known && d.balls_known && d.balls ? &d.ball : nullptr;
 }
 
 const Vec3* SweptClusters::centres(PartData& d, int index, int m) {

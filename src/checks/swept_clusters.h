@@ -10,7 +10,10 @@
 // of the cluster's centre posed at the piece's middle, speed_i being
 // MotionBound::sphere_bound for that sphere (the path it bounds is at most
 // that per unit of t anywhere on the motion; for a chain of rotations from
-// its levers, kept per checker: levers_bound, the same value). So when every cluster's ball
+// its levers, kept per checker: levers_bound, the same value), or twice
+// BoxMotion::balls' move for the cluster over the box the segment spans
+// where that is less (its levers read at the middle pose, not any pose;
+// the march's PoseRates takes the same balls). So when every cluster's ball
 // so grown keeps `target` from the box, the part does on the whole piece.
 // The segment's two halves are tried first (the whole segment's balls,
 // grown by half its length, passed for 39,650 pairs of the OMPL bench's
@@ -51,6 +54,11 @@ class SweptClusters {
   // has no triangles, has a scale action in its chain, or comes nearer).
   double clear(int part, const Vec3& lo, const Vec3& hi, double target);
 
+  // The part's BoxMotion::balls over the box qa and qb span from its
+  // middle (as the march's PoseRates reads them), when a clear() of this
+  // segment computed them; else nullptr. Valid up to the next start().
+  const std::vector<BoxMotion::Ball>* balls(int part) const;
+
  private:
   struct PartData {
     // The checker's (kept while it is the same checker): the spheres, and
@@ -62,6 +70,10 @@ class SweptClusters {
     // The segment's.
     bool known = false;
     bool usable = false;
+    // BoxMotion::balls over the segment's box (balls: their answer),
+    // bounding the speeds below where they are tighter.
+    bool balls_known = false, balls = false;
+    std::vector<BoxMotion::Ball> ball;
     std::vector<double> speed;  // per sphere: its points' path per unit of t
     std::vector<Vec3> centre;   // per time m / 2^kLevels and sphere: the sphere's centre posed
     std::vector<double> mag;    // the same: its largest coordinate's magnitude (the tests' rounding pad)
@@ -96,6 +108,7 @@ class SweptClusters {
   const std::vector<double>* qb_ = nullptr;
   std::vector<PartData> parts_;
   std::vector<double> q_;
+  std::vector<double> lo_, hi_, mid_;  // the box qa and qb span, its middle
 };
 
 }  // namespace plancheck
