@@ -1318,21 +1318,23 @@ Vec3 Checker::target_point(const std::vector<double>& params) const {
 
 // ---- Pair by pair (the sweep's certified regions) ----
 
+void Checker::place(PosedParts& out, std::size_t i) const {
+  if (chain_of_[i] >= 0) {
+    out.pose[i] = &out.chains[static_cast<std::size_t>(chain_of_[i])];
+    const Box b = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *out.pose[i]);
+    out.box[i] = {b.lo, b.hi};
+  } else {
+    out.pose[i] = &placement_[i];
+    out.box[i] = static_boxes_[i];
+  }
+}
+
 void Checker::pose_parts(const std::vector<double>& params, PosedParts& out, std::span<const int> parts) const {
   const std::size_t n = models_.size();
   out.pose.resize(n);
   out.box.resize(n);
   out.chains.resize(scene_.chains.size());
-  auto pose_one = [&](std::size_t i) {
-    if (chain_of_[i] >= 0) {
-      out.pose[i] = &out.chains[static_cast<std::size_t>(chain_of_[i])];
-      const Box b = posed_box({local_boxes_[i].first, local_boxes_[i].second}, *out.pose[i]);
-      out.box[i] = {b.lo, b.hi};
-    } else {
-      out.pose[i] = &placement_[i];
-      out.box[i] = static_boxes_[i];
-    }
-  };
+  auto pose_one = [&](std::size_t i) { place(out, i); };
   if (parts.empty()) {
     chain_transforms(scene_, chain_prefixes_, params, out.chains);
     for (std::size_t i = 0; i < n; ++i) pose_one(i);
@@ -1387,18 +1389,8 @@ bool Checker::pose_parts_moving(const std::vector<double>& params, PosedParts& o
     else
       t = part_transform(scene_, i, params);
   }
-  for (int i : parts) {  // pose_parts' pose_one
-    if (i < 0 || static_cast<std::size_t>(i) >= n) continue;
-    const std::size_t x = static_cast<std::size_t>(i);
-    if (chain_of_[x] >= 0) {
-      out.pose[x] = &out.chains[static_cast<std::size_t>(chain_of_[x])];
-      const Box b = posed_box({local_boxes_[x].first, local_boxes_[x].second}, *out.pose[x]);
-      out.box[x] = {b.lo, b.hi};
-    } else {
-      out.pose[x] = &placement_[x];
-      out.box[x] = static_boxes_[x];
-    }
-  }
+  for (int i : parts)
+    if (i >= 0 && static_cast<std::size_t>(i) < n) place(out, static_cast<std::size_t>(i));
   return known;
 }
 

@@ -425,6 +425,8 @@ class Checker {
   Vec3 target_point(const std::vector<double>& params, std::optional<ChainCache>& cache) const;
 
  private:
+  // Part i's pose and box in `out` once its chain's product is there.
+  void place(PosedParts& out, std::size_t i) const;
   struct PairRef {
     int a, b;
     bool empty = false;  // a part whose triangles were all left out: never checked

@@ -109,6 +109,34 @@ Action random_action(std::mt19937& rng, int first) {
   return a;
 }
 
+// count random actions into s.actions (random_action's), a third of the
+// one-parameter ones after the first made mimics of an earlier
+// one-parameter action (multiplier and offset random); scales: keep
+// random_action's scales (else three in four become rotations). Returns
+// how many parameters they read.
+int random_actions(std::mt19937& rng, int count, bool scales, Scene& s) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int parameters = 0;
+  for (int i = 0; i < count; ++i) {
+    Action a = random_action(rng, parameters);
+    if (!scales && a.type == ActionType::kScale && rng() % 4 != 0) a.type = ActionType::kRotate, a.parameter_count = 1;
+    parameters += a.parameter_count;
+    if (i > 0 && a.parameter_count == 1 && rng() % 3 == 0) {  // a mimic of an earlier one-parameter action
+      const int master = static_cast<int>(rng() % static_cast<unsigned>(i));
+      const Action& m = s.actions[static_cast<std::size_t>(master)];
+      if (m.parameter_count == 1 && m.mimic < 0) {
+        a.mimic = master;
+        a.multiplier = u(rng) * 2.0;
+        a.offset = u(rng);
+        parameters -= 1;
+        a.parameter_count = 0;
+      }
+    }
+    s.actions.push_back(a);
+  }
+  return parameters;
+}
+
 // chain_transforms continues the product of an earlier chain that begins
 // a chain; every chain must still be exactly (bit for bit) the product of
 // its own actions from the first, root first (compose), whatever the order of the
@@ -162,22 +190,7 @@ TEST(Kinematics, ChainCacheEqualsTheChainComposedAlone) {
   for (int trial = 0; trial < 100; ++trial) {
     Scene s;
     const int action_count = 7;
-    int parameters = 0;
-    for (int i = 0; i < action_count; ++i) {
-      Action a = random_action(rng, parameters);
-      parameters += a.parameter_count;
-      if (i > 0 && a.parameter_count == 1 && rng() % 3 == 0) {  // a mimic of an earlier one-parameter action
-        const int master = static_cast<int>(rng() % static_cast<unsigned>(i));
-        if (s.actions[static_cast<std::size_t>(master)].parameter_count == 1 && s.actions[static_cast<std::size_t>(master)].mimic < 0) {
-          a.mimic = master;
-          a.multiplier = u(rng) * 2.0;
-          a.offset = u(rng);
-          parameters -= 1;
-          a.parameter_count = 0;
-        }
-      }
-      s.actions.push_back(a);
-    }
+    const int parameters = random_actions(rng, action_count, true, s);
     std::vector<int> chain;
     for (int i = 0; i < 1 + static_cast<int>(rng() % 6); ++i) chain.push_back(static_cast<int>(rng() % action_count));
     ChainCache cache(s, chain);
@@ -222,24 +235,7 @@ TEST(Kinematics, PartVelocityIsTheDerivativeOfThePose) {
   for (int trial = 0; trial < 300; ++trial) {
     Scene s;
     const int action_count = 6;
-    int parameters = 0;
-    for (int i = 0; i < action_count; ++i) {
-      Action a = random_action(rng, parameters);
-      if (a.type == ActionType::kScale && rng() % 4 != 0) a.type = ActionType::kRotate, a.parameter_count = 1;
-      parameters += a.parameter_count;
-      if (i > 0 && a.parameter_count == 1 && rng() % 3 == 0) {
-        const int master = static_cast<int>(rng() % static_cast<unsigned>(i));
-        const Action& m = s.actions[static_cast<std::size_t>(master)];
-        if (m.parameter_count == 1 && m.mimic < 0) {
-          a.mimic = master;
-          a.multiplier = u(rng) * 2.0;
-          a.offset = u(rng);
-          parameters -= 1;
-          a.parameter_count = 0;
-        }
-      }
-      s.actions.push_back(a);
-    }
+    const int parameters = random_actions(rng, action_count, false, s);
     Part part;
     for (int i = 0; i < 1 + static_cast<int>(rng() % 6); ++i) part.chain.push_back(static_cast<int>(rng() % action_count));
     s.parts.push_back(part);
