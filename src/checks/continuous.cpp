@@ -946,8 +946,7 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     const int a = pairs_[k].first, b = pairs_[k].second;  // (not a binding: the lambdas below capture them)
     const double va = std::max(p.gap_a, floor_a), vb = std::max(p.gap_b, floor_b);
     Point& cur = m.cur;
-    const double sa = p.s_a, sb = p.s_b;
-    cur = Point{0.0, va, p.guard_a, va, sa};
+    cur = Point{0.0, va, p.guard_a, va, p.s_a};
     std::vector<Point>& rights = s.rights;
     // The piece [cur, r] certified: its bound taken and cur moved to r.
     auto take = [&](const Point& r) {
@@ -960,11 +959,11 @@ SegmentResult SegmentChecker::run_pairs(const std::vector<double>& qa, const std
     };
     // Most pairs: the whole segment certified by its ends at once (the
     // loop's first step, without its set-up).
-    if (cur.t < stop && take(Point{1.0, vb, p.guard_b, vb, sb})) {
+    if (cur.t < stop && take(Point{1.0, vb, p.guard_b, vb, p.s_b})) {
       rights.clear();
       return;
     }
-    rights.assign(1, Point{1.0, vb, p.guard_b, vb, sb});
+    rights.assign(1, Point{1.0, vb, p.guard_b, vb, p.s_b});
     while (!rights.empty() && cur.t < stop) {
       const Point& r = rights.back();
       if (take(r)) {
